@@ -1,0 +1,178 @@
+//! Kinematic assembly: consistent positions and velocities from the model's initial guesses.
+//!
+//! Positions: Newton's method on Φ(q, t₀) = 0 with minimum-norm steps Δq = −Φ_q⁺ Φ (SVD
+//! pseudo-inverse), so that each step moves the guess as little as possible and the branch
+//! reached is the one nearest the guess; a backtracking line search keeps |Φ| decreasing.
+//! Velocities: the minimum-norm correction of the guessed velocities onto Φ_q q̇ = −Φ_t.
+//! Rank and redundant rows come from a Gram–Schmidt pass over the rows of Φ_q at the solution.
+
+use super::FormulationError;
+use crate::mechanics::constraints::{ConstraintEval, ConstraintSet};
+use crate::model::Model;
+use nalgebra::{DMatrix, DVector};
+
+/// Relative size below which a row of Φ_q counts as a combination of the rows before it.
+const RANK_TOLERANCE: f64 = 1e-9;
+/// |Φ| (m or rad) below which the positions count as assembled.
+const POSITION_TOLERANCE: f64 = 1e-12;
+const MAX_ITERATIONS: usize = 100;
+
+/// Result of assembling a model.
+#[derive(Debug, Clone)]
+pub struct Assembly {
+    /// Consistent coordinates (x, y, φ per body).
+    pub q: Vec<f64>,
+    /// Consistent velocities.
+    pub v: Vec<f64>,
+    /// Rank of Φ_q.
+    pub rank: usize,
+    /// Rows of the constraint set that are combinations of earlier rows.
+    pub redundant_rows: Vec<usize>,
+    /// Degrees of freedom: coordinates − rank.
+    pub dof: usize,
+    /// Newton iterations used.
+    pub iterations: usize,
+    /// Largest |Φ| after assembly.
+    pub residual: f64,
+}
+
+fn dense_jacobian(eval: &ConstraintEval, n: usize) -> DMatrix<f64> {
+    let m = eval.rows.len();
+    let mut jac = DMatrix::zeros(m, n);
+    for (k, row) in eval.rows.iter().enumerate() {
+        if let Some(a) = row.body_a {
+            for c in 0..3 {
+                jac[(k, 3 * a + c)] += row.jac_a[c];
+            }
+        }
+        if let Some(b) = row.body_b {
+            for c in 0..3 {
+                jac[(k, 3 * b + c)] += row.jac_b[c];
+            }
+        }
+    }
+    jac
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |m, x| m.max(x.abs()))
+}
+
+fn evaluate(set: &ConstraintSet, t: f64, q: &[f64], v: &[f64], out: &mut ConstraintEval) {
+    let sin_cos: Vec<(f64, f64)> = (0..q.len() / 3).map(|i| q[3 * i + 2].sin_cos()).collect();
+    set.evaluate_into(t, q, v, &sin_cos, out);
+}
+
+/// Assembles `model` at time `t0` with the constraint rows of `set`.
+pub fn assemble(model: &Model, set: &ConstraintSet, t0: f64) -> Result<Assembly, FormulationError> {
+    let n = 3 * model.bodies.len();
+    let m = set.n_rows();
+    let mut q: Vec<f64> = model.bodies.iter().flat_map(|b| [b.initial.x, b.initial.y, b.initial.phi]).collect();
+    let v_guess: Vec<f64> = model
+        .bodies
+        .iter()
+        .flat_map(|b| [b.initial.vx, b.initial.vy, b.initial.omega])
+        .collect();
+    let mut eval = ConstraintEval::with_rows(m);
+    let zero = vec![0.0; n];
+    evaluate(set, t0, &q, &zero, &mut eval);
+    let mut residual = max_abs(&eval.phi);
+    let mut iterations = 0;
+    while residual > POSITION_TOLERANCE && iterations < MAX_ITERATIONS {
+        iterations += 1;
+        let jac = dense_jacobian(&eval, n);
+        let phi = DVector::from_column_slice(&eval.phi);
+        let svd = jac.svd(true, true);
+        let eps = 1e-12 * svd.singular_values.max().max(1e-300);
+        let Ok(step) = svd.solve(&phi, eps) else { break };
+        // Backtracking: accept the first step length that reduces |Φ|.
+        let mut length = 1.0;
+        let mut accepted = false;
+        while length > 1e-6 {
+            let trial: Vec<f64> = q.iter().zip(step.iter()).map(|(qi, si)| qi - length * si).collect();
+            let mut trial_eval = ConstraintEval::with_rows(m);
+            evaluate(set, t0, &trial, &zero, &mut trial_eval);
+            let r = max_abs(&trial_eval.phi);
+            if r < residual || r <= POSITION_TOLERANCE {
+                q = trial;
+                eval = trial_eval;
+                residual = r;
+                accepted = true;
+                break;
+            }
+            length *= 0.5;
+        }
+        if !accepted {
+            break;
+        }
+    }
+    if residual > POSITION_TOLERANCE * 1e3 {
+        let worst = eval
+            .phi
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            .map_or(0, |(k, _)| k);
+        let joint = set.row_name(model, worst);
+        return Err(FormulationError::Unassemblable {
+            joint: joint.split('.').next().unwrap_or(&joint).to_string(),
+            residual,
+            iterations,
+        });
+    }
+
+    let jac = dense_jacobian(&eval, n);
+    let redundant_rows = redundant_rows(&jac);
+    let rank = m - redundant_rows.len();
+
+    // Velocities: minimum-norm correction of the guess onto Φ_q q̇ = −Φ_t.
+    let v_guess_vec = DVector::from_column_slice(&v_guess);
+    let phi_t = DVector::from_column_slice(&eval.phi_t);
+    let defect = &jac * &v_guess_vec + phi_t;
+    let svd = jac.clone().svd(true, true);
+    let eps = 1e-12 * svd.singular_values.max().max(1e-300);
+    let correction = svd.solve(&defect, eps).unwrap_or_else(|_| DVector::zeros(n));
+    let v: Vec<f64> = (v_guess_vec - correction).iter().copied().collect();
+
+    Ok(Assembly {
+        q,
+        v,
+        rank,
+        redundant_rows,
+        dof: n - rank,
+        iterations,
+        residual,
+    })
+}
+
+/// Redundant rows of `set` at the coordinates `q` (velocities `v` only fill Φ̇).
+pub fn redundant_rows_at(set: &ConstraintSet, q: &[f64], v: &[f64]) -> Vec<usize> {
+    let mut eval = ConstraintEval::with_rows(set.n_rows());
+    evaluate(set, 0.0, q, v, &mut eval);
+    redundant_rows(&dense_jacobian(&eval, q.len()))
+}
+
+/// Rows of `jac` that lie (to [`RANK_TOLERANCE`]) in the span of the rows before them.
+fn redundant_rows(jac: &DMatrix<f64>) -> Vec<usize> {
+    let mut basis: Vec<DVector<f64>> = Vec::new();
+    let mut redundant = Vec::new();
+    for k in 0..jac.nrows() {
+        let row: DVector<f64> = jac.row(k).transpose();
+        let norm = row.norm();
+        let mut r = row.clone();
+        // Two passes of modified Gram–Schmidt for numerical orthogonality.
+        for _ in 0..2 {
+            for b in &basis {
+                let c = b.dot(&r);
+                r -= b * c;
+            }
+        }
+        let rn = r.norm();
+        if norm == 0.0 || rn <= RANK_TOLERANCE * norm {
+            redundant.push(k);
+        } else {
+            basis.push(r / rn);
+        }
+    }
+    redundant
+}

@@ -1,0 +1,330 @@
+//! The constraint-based DAE in absolute coordinates, reduced to an ODE by Baumgarte's method.
+//!
+//! State y = (q, q̇), q = (xᵢ, yᵢ, φᵢ) for every body. Equations of motion
+//!
+//! ```text
+//!     M q̈ + Φ_qᵀ λ = Q(q, q̇, t)
+//!     Φ_q q̈ = γ − 2α Φ̇ − β² Φ
+//! ```
+//!
+//! so that the constraint error obeys Φ̈ + 2αΦ̇ + β²Φ = 0 (ref. 1). M is diagonal, so λ follows
+//! from the Schur complement S λ = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), S = Φ_q M⁻¹ Φ_qᵀ (SPD when
+//! the rows are independent; redundant rows found at assembly are left out), factored by
+//! Cholesky each evaluation; then q̈ = M⁻¹ (Q − Φ_qᵀ λ).
+//!
+//! Sign conventions: −Φ_qᵀ λ is the constraint force. The reaction of a joint reported on its
+//! second body b is −(∂Φ/∂r_b)ᵀ λ over the joint's rows; a driver's torque on body b is −λ.
+//!
+//! # References
+//! 1. J. Baumgarte, Stabilization of constraints and integrals of motion in dynamical systems,
+//!    *Computer Methods in Applied Mechanics and Engineering* 1 (1972) 1–16.
+//! 2. P. E. Nikravesh, *Computer-Aided Analysis of Mechanical Systems*, 1988, §6.
+
+use super::assembly::{Assembly, assemble};
+use super::{Formulation, FormulationError};
+use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
+use crate::mechanics::AppliedForces;
+use crate::model::{Baumgarte, JointKind, Model};
+use std::cell::RefCell;
+
+use super::cholesky;
+
+/// Options of the DAE formulation.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct DaeOptions {
+    /// Baumgarte factors; `None` takes the model's `[settings.baumgarte]`.
+    pub baumgarte: Option<Baumgarte>,
+}
+
+impl Default for DaeOptions {
+    /// Baumgarte from the model file (whose own default is α = β = 10 s⁻¹).
+    fn default() -> Self {
+        DaeOptions { baumgarte: None }
+    }
+}
+
+/// Buffers reused by every evaluation.
+#[derive(Debug, Clone)]
+struct Work {
+    sin_cos: Vec<(f64, f64)>,
+    forces: Vec<f64>,
+    constraints: ConstraintEval,
+    schur: Vec<f64>,
+    lambda: Vec<f64>,
+}
+
+/// The absolute-coordinate DAE of a model.
+#[derive(Debug, Clone)]
+pub struct Dae {
+    model: Model,
+    constraints: ConstraintSet,
+    /// Rows used in the dynamics (all but the redundant ones).
+    active: Vec<usize>,
+    applied: AppliedForces,
+    inv_mass: Vec<f64>,
+    baumgarte: Baumgarte,
+    assembly: Assembly,
+    work: RefCell<Work>,
+}
+
+/// Everything one evaluation yields beyond q̈: multipliers over all rows (0 for redundant ones).
+#[derive(Debug, Clone)]
+pub struct DaeEvaluation {
+    /// q̈ (3 per body).
+    pub acceleration: Vec<f64>,
+    /// λ for every constraint row.
+    pub lambda: Vec<f64>,
+    /// Φ for every constraint row.
+    pub phi: Vec<f64>,
+}
+
+impl Dae {
+    /// Assembles the model (consistent positions and velocities at t = 0) and prepares the
+    /// equations.
+    pub fn new(model: &Model, options: &DaeOptions) -> Result<Self, FormulationError> {
+        let assembly_set = ConstraintSet::from_model(model, true);
+        let assembly = assemble(model, &assembly_set, 0.0)?;
+        let constraints = ConstraintSet::from_model(model, false);
+        let m = constraints.n_rows();
+        let redundant = if model.has_clearance_joints() {
+            // The assembly set has extra rows for the clearance joints: find the dynamic set's own
+            // redundancy at the assembled positions.
+            super::assembly::redundant_rows_at(&constraints, &assembly.q, &assembly.v)
+        } else {
+            assembly.redundant_rows.clone()
+        };
+        let active: Vec<usize> = (0..m).filter(|k| !redundant.contains(k)).collect();
+        let inv_mass = model
+            .bodies
+            .iter()
+            .flat_map(|b| [1.0 / b.mass, 1.0 / b.mass, 1.0 / b.inertia])
+            .collect();
+        let nb = model.bodies.len();
+        let ma = active.len();
+        Ok(Dae {
+            model: model.clone(),
+            active,
+            applied: AppliedForces::from_model(model),
+            inv_mass,
+            baumgarte: options.baumgarte.unwrap_or(model.settings.baumgarte),
+            assembly,
+            work: RefCell::new(Work {
+                sin_cos: vec![(0.0, 1.0); nb],
+                forces: vec![0.0; 3 * nb],
+                constraints: ConstraintEval::with_rows(m),
+                schur: vec![0.0; ma * ma],
+                lambda: vec![0.0; ma],
+            }),
+            constraints,
+        })
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// The assembly result (consistent initial state, rank, redundant rows, DOF).
+    pub fn assembly(&self) -> &Assembly {
+        &self.assembly
+    }
+
+    /// The dynamic constraint rows.
+    pub fn constraints(&self) -> &ConstraintSet {
+        &self.constraints
+    }
+
+    /// Baumgarte factors in use.
+    pub fn baumgarte(&self) -> Baumgarte {
+        self.baumgarte
+    }
+
+    /// Number of coordinates (3 per body).
+    pub fn n_coordinates(&self) -> usize {
+        3 * self.model.bodies.len()
+    }
+
+    /// Core evaluation: q̈ into `acc`, λ of the active rows into the work buffer.
+    fn accelerations_into(&self, t: f64, y: &[f64], acc: &mut [f64], work: &mut Work) -> Result<(), FormulationError> {
+        let n = self.n_coordinates();
+        let (q, v) = y.split_at(n);
+        for (i, sc) in work.sin_cos.iter_mut().enumerate() {
+            *sc = q[3 * i + 2].sin_cos();
+        }
+        self.applied.evaluate_into(q, v, &work.sin_cos, &mut work.forces);
+        self.constraints.evaluate_into(t, q, v, &work.sin_cos, &mut work.constraints);
+
+        let ma = self.active.len();
+        let ce = &work.constraints;
+        let Baumgarte { alpha, beta } = self.baumgarte;
+        // S = Φ_q M⁻¹ Φ_qᵀ and the right-hand side Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ).
+        for (i, &ri) in self.active.iter().enumerate() {
+            let row_i = &ce.rows[ri];
+            let mut rhs = -(ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri]);
+            for (body, jac) in [(row_i.body_a, &row_i.jac_a), (row_i.body_b, &row_i.jac_b)] {
+                if let Some(b) = body {
+                    for c in 0..3 {
+                        rhs += jac[c] * self.inv_mass[3 * b + c] * work.forces[3 * b + c];
+                    }
+                }
+            }
+            work.lambda[i] = rhs;
+            for (j, &rj) in self.active.iter().enumerate().take(i + 1) {
+                let row_j = &ce.rows[rj];
+                let mut s = 0.0;
+                for (bi, ji) in [(row_i.body_a, &row_i.jac_a), (row_i.body_b, &row_i.jac_b)] {
+                    let Some(bi) = bi else { continue };
+                    for (bj, jj) in [(row_j.body_a, &row_j.jac_a), (row_j.body_b, &row_j.jac_b)] {
+                        if bj == Some(bi) {
+                            for c in 0..3 {
+                                s += ji[c] * self.inv_mass[3 * bi + c] * jj[c];
+                            }
+                        }
+                    }
+                }
+                work.schur[i * ma + j] = s;
+                work.schur[j * ma + i] = s;
+            }
+        }
+        if let Err(pivot) = cholesky::factor(&mut work.schur, ma) {
+            return Err(FormulationError::SingularConstraints {
+                t,
+                constraint: self.constraints.row_name(&self.model, self.active[pivot]),
+            });
+        }
+        cholesky::solve(&work.schur, ma, &mut work.lambda);
+        // q̈ = M⁻¹ (Q − Φ_qᵀ λ).
+        acc.copy_from_slice(&work.forces);
+        for (i, &ri) in self.active.iter().enumerate() {
+            let row = &ce.rows[ri];
+            let l = work.lambda[i];
+            if let Some(a) = row.body_a {
+                for c in 0..3 {
+                    acc[3 * a + c] -= row.jac_a[c] * l;
+                }
+            }
+            if let Some(b) = row.body_b {
+                for c in 0..3 {
+                    acc[3 * b + c] -= row.jac_b[c] * l;
+                }
+            }
+        }
+        for (a, im) in acc.iter_mut().zip(&self.inv_mass) {
+            *a *= im;
+        }
+        for (i, body) in self.model.bodies.iter().enumerate() {
+            if !acc[3 * i..3 * i + 3].iter().all(|x| x.is_finite()) {
+                return Err(FormulationError::NonFinite {
+                    t,
+                    body: body.name.clone(),
+                    what: "acceleration".into(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Full evaluation at (t, y): accelerations, multipliers of every row and Φ.
+    pub fn evaluate(&self, t: f64, y: &[f64]) -> Result<DaeEvaluation, FormulationError> {
+        let mut work = self.work.borrow_mut();
+        let mut acceleration = vec![0.0; self.n_coordinates()];
+        self.accelerations_into(t, y, &mut acceleration, &mut work)?;
+        let mut lambda = vec![0.0; self.constraints.n_rows()];
+        for (i, &ri) in self.active.iter().enumerate() {
+            lambda[ri] = work.lambda[i];
+        }
+        Ok(DaeEvaluation {
+            acceleration,
+            lambda,
+            phi: work.constraints.phi.clone(),
+        })
+    }
+
+    /// Reaction force (N, global) of each joint on its second body, and each driver's torque
+    /// (N·m) on the second body of its joint, from the multipliers of an evaluation.
+    /// Clearance joints get no entry here (their force is the contact force).
+    pub fn reactions(&self, t: f64, y: &[f64], eval: &DaeEvaluation) -> (Vec<[f64; 2]>, Vec<f64>) {
+        let n = self.n_coordinates();
+        let (q, v) = y.split_at(n);
+        let sin_cos: Vec<(f64, f64)> = (0..self.model.bodies.len()).map(|i| q[3 * i + 2].sin_cos()).collect();
+        let mut ce = ConstraintEval::with_rows(self.constraints.n_rows());
+        self.constraints.evaluate_into(t, q, v, &sin_cos, &mut ce);
+        let mut joint_forces = vec![[0.0; 2]; self.model.joints.len()];
+        let mut driver_torques = vec![0.0; self.model.drivers.len()];
+        for (k, source) in self.constraints.sources().iter().enumerate() {
+            let l = eval.lambda[k];
+            let jb = ce.rows[k].jac_b;
+            match source {
+                RowSource::JointAxis { joint, .. } | RowSource::PrismaticAngle(joint) | RowSource::PrismaticNormal(joint) => {
+                    let f = &mut joint_forces[joint.0];
+                    f[0] -= jb[0] * l;
+                    f[1] -= jb[1] * l;
+                }
+                RowSource::Driver(d) => driver_torques[*d] = -jb[2] * l,
+            }
+        }
+        (joint_forces, driver_torques)
+    }
+
+    /// Names of the output columns, in order: per body `B.x B.y B.phi B.vx B.vy B.omega B.ax B.ay
+    /// B.alpha`, per ideal joint `J.fx J.fy`, per driver `D.torque`.
+    pub fn output_names(&self) -> Vec<String> {
+        let mut names = Vec::new();
+        for b in &self.model.bodies {
+            for c in ["x", "y", "phi", "vx", "vy", "omega", "ax", "ay", "alpha"] {
+                names.push(format!("{}.{c}", b.name));
+            }
+        }
+        for j in &self.model.joints {
+            if !matches!(j.kind, JointKind::Clearance(_)) {
+                names.push(format!("{}.fx", j.name));
+                names.push(format!("{}.fy", j.name));
+            }
+        }
+        for d in &self.model.drivers {
+            names.push(format!("{}.torque", d.name));
+        }
+        names
+    }
+
+    /// Output values at (t, y) in the order of [`Dae::output_names`]; also returns the largest
+    /// |Φ| over the rows.
+    pub fn outputs_into(&self, t: f64, y: &[f64], out: &mut Vec<f64>) -> Result<f64, FormulationError> {
+        let eval = self.evaluate(t, y)?;
+        let n = self.n_coordinates();
+        out.clear();
+        for i in 0..self.model.bodies.len() {
+            out.extend_from_slice(&y[3 * i..3 * i + 3]);
+            out.extend_from_slice(&y[n + 3 * i..n + 3 * i + 3]);
+            out.extend_from_slice(&eval.acceleration[3 * i..3 * i + 3]);
+        }
+        let (joint_forces, driver_torques) = self.reactions(t, y, &eval);
+        for (j, f) in self.model.joints.iter().zip(&joint_forces) {
+            if !matches!(j.kind, JointKind::Clearance(_)) {
+                out.extend_from_slice(f);
+            }
+        }
+        out.extend_from_slice(&driver_torques);
+        Ok(eval.phi.iter().fold(0.0_f64, |m, p| m.max(p.abs())))
+    }
+}
+
+impl Formulation for Dae {
+    fn n_states(&self) -> usize {
+        2 * self.n_coordinates()
+    }
+
+    fn initial_state(&self) -> Vec<f64> {
+        let mut y = self.assembly.q.clone();
+        y.extend_from_slice(&self.assembly.v);
+        y
+    }
+
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
+        let n = self.n_coordinates();
+        let mut work = self.work.borrow_mut();
+        let (dq, dv) = dy.split_at_mut(n);
+        dq.copy_from_slice(&y[n..]);
+        self.accelerations_into(t, y, dv, &mut work)
+    }
+}

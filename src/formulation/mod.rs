@@ -1,0 +1,126 @@
+//! Formulations: turning a [`Model`](crate::model::Model) into first-order equations of motion
+//! y' = f(t, y) that the integrators in [`crate::solve`] can step.
+//!
+//! Each formulation implements [`Formulation`]. Integrators see only this trait, never a concrete
+//! mechanism: equations apart from method.
+
+pub mod assembly;
+pub mod cholesky;
+pub mod dae;
+
+pub use dae::{Dae, DaeOptions};
+
+use thiserror::Error;
+
+/// Direction in which an event function g crossed zero.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Crossing {
+    /// g went from negative to positive.
+    Rising,
+    /// g went from positive to negative.
+    Falling,
+}
+
+/// What the integrator must do after a formulation handled an event.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventResponse {
+    /// The equations changed (e.g. a contact started and its impact velocity was stored):
+    /// restart the integrator at the event time from the (possibly modified) state.
+    Restart,
+    /// Nothing changed; carry on with the current step.
+    Continue,
+}
+
+/// Equations of motion in first-order form, y' = f(t, y), plus optional event functions.
+///
+/// The state layout is the formulation's own business; the integrator only needs its length.
+pub trait Formulation {
+    /// Number of first-order states (length of y).
+    fn n_states(&self) -> usize;
+
+    /// Consistent initial state at `self.t0()`.
+    fn initial_state(&self) -> Vec<f64>;
+
+    /// Initial time (s).
+    fn t0(&self) -> f64 {
+        0.0
+    }
+
+    /// Right-hand side: writes y'(t) into `dy`. Fails where the equations cannot be evaluated
+    /// (a singular constraint Jacobian, a non-finite force), saying why.
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError>;
+
+    /// Number of event functions g_i(t, y). Default: none.
+    fn n_events(&self) -> usize {
+        0
+    }
+
+    /// Writes the event functions g_i(t, y) into `g` (length [`Formulation::n_events`]).
+    /// An event happens where some g_i changes sign.
+    fn events(&self, _t: f64, _y: &[f64], _g: &mut [f64]) {}
+
+    /// Called by the integrator at a located event (t is the root to the event tolerance).
+    /// The formulation may change its discrete state (e.g. store an impact velocity) and
+    /// may modify `y`. Default: ignore the event.
+    fn apply_event(
+        &mut self,
+        _t: f64,
+        _y: &mut [f64],
+        _index: usize,
+        _crossing: Crossing,
+    ) -> EventResponse {
+        EventResponse::Continue
+    }
+
+    /// Largest step the integrator may take from (t, y) (s). Formulations with events use it
+    /// to make sure that no event can start and end inside one step. Default: unlimited.
+    fn max_step(&self, _t: f64, _y: &[f64]) -> f64 {
+        f64::INFINITY
+    }
+}
+
+/// Errors raised while building or evaluating a formulation.
+#[derive(Debug, Error)]
+pub enum FormulationError {
+    /// Newton's method could not bring the constraints to zero from the initial guesses.
+    #[error(
+        "the linkage cannot be assembled: constraint of joint \"{joint}\" is off by {residual:.3e} after {iterations} Newton iterations (check the body initial guesses and link lengths)"
+    )]
+    Unassemblable {
+        /// Joint or driver whose constraint has the largest residual.
+        joint: String,
+        /// Largest residual |Φ| (m or rad).
+        residual: f64,
+        /// Newton iterations done.
+        iterations: usize,
+    },
+    /// The constraint Jacobian lost rank during the motion (a locking or singular position).
+    #[error(
+        "singular constraint Jacobian at t = {t:.9} s (the linkage passes a singular position; constraint \"{constraint}\")"
+    )]
+    SingularConstraints {
+        /// Time (s).
+        t: f64,
+        /// Name of the constraint row where the factorisation broke down.
+        constraint: String,
+    },
+    /// A non-finite value appeared in the state or in a force.
+    #[error("non-finite {what} of body \"{body}\" at t = {t:.9} s")]
+    NonFinite {
+        /// Time (s).
+        t: f64,
+        /// Body name.
+        body: String,
+        /// Which quantity ("position", "velocity", "acceleration").
+        what: String,
+    },
+    /// The model does not fit this formulation.
+    #[error("{formulation} formulation: {reason}")]
+    Unsupported {
+        /// Formulation name.
+        formulation: String,
+        /// What it requires and what the model has.
+        reason: String,
+    },
+}

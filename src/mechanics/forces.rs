@@ -1,0 +1,101 @@
+//! Applied forces as a generalised force vector Q (3 entries per body: Fx, Fy, moment).
+//!
+//! A force F at a body point with arm A s from the centre of mass contributes (F_x, F_y, (A s) × F).
+//! Sign convention: counter-clockwise moments are positive.
+
+use super::planar::{cross, point_state};
+use crate::model::{Anchor, ForceElement, Frame, Model};
+
+/// Gravity and the model's force elements, ready to evaluate.
+#[derive(Debug, Clone)]
+pub struct AppliedForces {
+    /// m g per body (constant).
+    weights: Vec<[f64; 2]>,
+    elements: Vec<ForceElement>,
+}
+
+impl AppliedForces {
+    /// From the model's masses, gravity and force elements.
+    pub fn from_model(model: &Model) -> Self {
+        let g = model.settings.gravity;
+        AppliedForces {
+            weights: model.bodies.iter().map(|b| [b.mass * g[0], b.mass * g[1]]).collect(),
+            elements: model.forces.clone(),
+        }
+    }
+
+    /// Writes Q(q, q̇) into `out` (length 3 × bodies), overwriting it.
+    pub fn evaluate_into(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)], out: &mut [f64]) {
+        for (i, w) in self.weights.iter().enumerate() {
+            out[3 * i] = w[0];
+            out[3 * i + 1] = w[1];
+            out[3 * i + 2] = 0.0;
+        }
+        for e in &self.elements {
+            match e {
+                ForceElement::Torque { body, torque, .. } => out[3 * body.0 + 2] += torque,
+                ForceElement::PointForce { at, force, .. } => add_point_force(at, *force, q, v, sin_cos, out),
+                ForceElement::SpringDamper {
+                    a,
+                    b,
+                    stiffness,
+                    damping,
+                    free_length,
+                    ..
+                } => {
+                    let pa = point_state(a.frame, a.local, q, v, sin_cos);
+                    let pb = point_state(b.frame, b.local, q, v, sin_cos);
+                    let d = [pb.position[0] - pa.position[0], pb.position[1] - pa.position[1]];
+                    let length = d[0].hypot(d[1]);
+                    if length < 1e-12 {
+                        // Direction undefined with coincident points: no force, as for any
+                        // element of zero length.
+                        continue;
+                    }
+                    let u = [d[0] / length, d[1] / length];
+                    let rate = u[0] * (pb.velocity[0] - pa.velocity[0]) + u[1] * (pb.velocity[1] - pa.velocity[1]);
+                    let tension = stiffness * (length - free_length) + damping * rate;
+                    // Tension pulls b towards a and a towards b.
+                    add_point_force(a, [tension * u[0], tension * u[1]], q, v, sin_cos, out);
+                    add_point_force(b, [-tension * u[0], -tension * u[1]], q, v, sin_cos, out);
+                }
+            }
+        }
+    }
+
+    /// Potential energy of gravity and springs (J), for energy checks.
+    pub fn potential_energy(&self, q: &[f64], sin_cos: &[(f64, f64)]) -> f64 {
+        let mut u = 0.0;
+        for (i, w) in self.weights.iter().enumerate() {
+            u -= w[0] * q[3 * i] + w[1] * q[3 * i + 1];
+        }
+        let zero = vec![0.0; q.len()];
+        for e in &self.elements {
+            if let ForceElement::SpringDamper {
+                a,
+                b,
+                stiffness,
+                free_length,
+                ..
+            } = e
+            {
+                let pa = point_state(a.frame, a.local, q, &zero, sin_cos);
+                let pb = point_state(b.frame, b.local, q, &zero, sin_cos);
+                let stretch = (pb.position[0] - pa.position[0]).hypot(pb.position[1] - pa.position[1]) - free_length;
+                u += 0.5 * stiffness * stretch * stretch;
+            }
+        }
+        u
+    }
+}
+
+/// Adds force F at an anchor (nothing if on the ground).
+#[inline]
+pub fn add_point_force(at: &Anchor, force: [f64; 2], q: &[f64], v: &[f64], sin_cos: &[(f64, f64)], out: &mut [f64]) {
+    if let Frame::Body(id) = at.frame {
+        let p = point_state(at.frame, at.local, q, v, sin_cos);
+        out[3 * id.0] += force[0];
+        out[3 * id.0 + 1] += force[1];
+        out[3 * id.0 + 2] += cross(p.arm, force);
+    }
+}

@@ -1,0 +1,117 @@
+//! `--set KEY=VALUE` overrides: a dotted path into the model file, array entries by name
+//! (`drivers.motor.speed_rpm=3500`, `bodies.crank.mass=0.5`, `settings.gravity=[0, 0]`).
+//!
+//! Applied to the TOML document before it is deserialised, so every check that applies to the
+//! file applies to an overridden value too.
+
+use super::error::ModelError;
+use super::suggest::did_you_mean;
+use toml::{Table, Value};
+
+/// Returns the model text with every override applied, in order.
+pub fn apply(text: &str, file: &str, overrides: &[String]) -> Result<String, ModelError> {
+    let mut doc: Table = text.parse().map_err(|e: toml::de::Error| ModelError::WholeFile {
+        file: file.to_string(),
+        message: e.message().trim().to_string(),
+    })?;
+    for assignment in overrides {
+        let fail = |message: String| ModelError::Override {
+            assignment: assignment.clone(),
+            message,
+        };
+        let (path, raw_value) = assignment
+            .split_once('=')
+            .ok_or_else(|| fail("expected KEY=VALUE, e.g. drivers.motor.speed_rpm=3500".into()))?;
+        let keys: Vec<&str> = path.trim().split('.').collect();
+        if keys.iter().any(|k| k.is_empty()) {
+            return Err(fail(format!("empty key in path \"{}\"", path.trim())));
+        }
+        set(&mut doc, &keys, parse_value(raw_value.trim())).map_err(fail)?;
+    }
+    toml::to_string(&doc).map_err(|e| ModelError::WholeFile {
+        file: file.to_string(),
+        message: format!("cannot re-serialise the model after --set: {e}"),
+    })
+}
+
+/// A TOML value if the text is one (number, boolean, array, quoted string), otherwise the bare
+/// text as a string (so `--set bodies.crank.name=arm` works without quotes).
+fn parse_value(raw: &str) -> Value {
+    format!("v = {raw}")
+        .parse::<Table>()
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| Value::String(raw.to_string()))
+}
+
+fn set(table: &mut Table, keys: &[&str], value: Value) -> Result<(), String> {
+    let Some((first, rest)) = keys.split_first() else {
+        return Err("empty path".into());
+    };
+    if rest.is_empty() {
+        table.insert((*first).to_string(), value);
+        return Ok(());
+    }
+    let entry = table
+        .entry((*first).to_string())
+        .or_insert_with(|| Value::Table(Table::new()));
+    match entry {
+        Value::Table(inner) => set(inner, rest, value),
+        Value::Array(items) => {
+            let (name, rest) = rest.split_first().ok_or("missing entry name")?;
+            let names: Vec<String> = items
+                .iter()
+                .filter_map(|i| i.get("name").and_then(Value::as_str).map(str::to_string))
+                .collect();
+            let item = items
+                .iter_mut()
+                .find(|i| i.get("name").and_then(Value::as_str) == Some(name))
+                .ok_or_else(|| {
+                    format!(
+                        "no entry named \"{name}\" in {first}{}",
+                        did_you_mean(name, names.iter().map(String::as_str))
+                    )
+                })?;
+            match item {
+                Value::Table(inner) if !rest.is_empty() => set(inner, rest, value),
+                _ => Err(format!("{first}.{name} needs a field after it")),
+            }
+        }
+        _ => Err(format!("\"{first}\" is a value, not a table")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DOC: &str = "[model]\nname = \"m\"\n\n[[drivers]]\nname = \"motor\"\nspeed_rpm = 250.0\n";
+
+    #[test]
+    fn sets_array_entry_by_name_and_creates_tables() {
+        let out = apply(
+            DOC,
+            "m.toml",
+            &[
+                "drivers.motor.speed_rpm=3500".into(),
+                "settings.baumgarte.alpha=5".into(),
+            ],
+        );
+        let out = out.unwrap_or_default();
+        assert!(out.contains("speed_rpm = 3500"), "{out}");
+        assert!(out.contains("alpha = 5"), "{out}");
+    }
+
+    #[test]
+    fn unknown_entry_is_named_with_a_suggestion() {
+        let err = apply(DOC, "m.toml", &["drivers.motr.speed_rpm=1".into()])
+            .err()
+            .map(|e| e.to_string());
+        assert_eq!(
+            err.as_deref(),
+            Some(
+                "--set drivers.motr.speed_rpm=1: no entry named \"motr\" in drivers: did you mean \"motor\"?"
+            )
+        );
+    }
+}

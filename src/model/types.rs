@@ -1,0 +1,321 @@
+//! The validated model, in SI units, addressed by typed ids.
+
+use serde::Serialize;
+
+/// Index of a body in [`Model::bodies`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub struct BodyId(pub usize);
+
+/// Index of a joint in [`Model::joints`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub struct JointId(pub usize);
+
+/// Where a point lives: on the ground (global coordinates) or on a body (body frame).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Frame {
+    /// The fixed ground.
+    Ground,
+    /// A moving body.
+    Body(BodyId),
+}
+
+/// A named point attached to the ground or to a body.
+#[derive(Debug, Clone, Serialize)]
+pub struct Anchor {
+    /// Ground or body.
+    pub frame: Frame,
+    /// The point's name in the model file.
+    pub point: String,
+    /// Coordinates in the frame (m): body frame (origin at the centre of mass) or global.
+    pub local: [f64; 2],
+}
+
+/// Planar pose and velocity of a body's centre of mass.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct BodyState {
+    /// x (m).
+    pub x: f64,
+    /// y (m).
+    pub y: f64,
+    /// Orientation φ of the body x-axis (rad).
+    pub phi: f64,
+    /// ẋ (m/s).
+    pub vx: f64,
+    /// ẏ (m/s).
+    pub vy: f64,
+    /// φ̇ (rad/s).
+    pub omega: f64,
+}
+
+/// A rigid body.
+#[derive(Debug, Clone, Serialize)]
+pub struct Body {
+    /// Name as in the model file.
+    pub name: String,
+    /// Mass (kg), > 0.
+    pub mass: f64,
+    /// Moment of inertia about the centre of mass (kg·m²), > 0.
+    pub inertia: f64,
+    /// Named points in the body frame (m).
+    pub points: Vec<(String, [f64; 2])>,
+    /// Initial guess of pose and velocity; assembly makes it consistent.
+    pub initial: BodyState,
+}
+
+/// Contact-force law of a clearance joint (see `contact::laws`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactLawKind {
+    /// Lankarani–Nikravesh (1990) hysteresis damping.
+    LankaraniNikravesh,
+    /// Hunt–Crossley (1975).
+    HuntCrossley,
+    /// Flores et al. (2011).
+    Flores,
+    /// Hertz: elastic, no damping.
+    Hertz,
+}
+
+/// Friction law of a clearance joint.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "law")]
+pub enum FrictionSpec {
+    /// No friction.
+    None,
+    /// Ambrósio's modified Coulomb law.
+    Ambrosio {
+        /// Friction coefficient c_f.
+        coefficient: f64,
+        /// Tangential speed below which friction is off (m/s).
+        v0: f64,
+        /// Tangential speed above which friction is fully on (m/s).
+        v1: f64,
+    },
+}
+
+/// Young's modulus and Poisson ratio of one side of a contact.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Material {
+    /// Young's modulus E (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson ratio ν.
+    pub poisson_ratio: f64,
+}
+
+/// Data of a revolute joint with clearance (a contact-force law, not a constraint).
+#[derive(Debug, Clone, Serialize)]
+pub struct ClearanceSpec {
+    /// Radial clearance c = R_B − R_J (m), > 0.
+    pub clearance: f64,
+    /// Journal radius R_J (m), > 0.
+    pub journal_radius: f64,
+    /// Bearing material.
+    pub bearing_material: Material,
+    /// Journal material.
+    pub journal_material: Material,
+    /// Generalised stiffness K (N/m^n) if given in the file; otherwise it follows from the materials.
+    pub stiffness_override: Option<f64>,
+    /// Normal-force law.
+    pub law: ContactLawKind,
+    /// Coefficient of restitution c_r ∈ (0, 1].
+    pub restitution: f64,
+    /// Exponent n of the penetration.
+    pub exponent: f64,
+    /// Friction law.
+    pub friction: FrictionSpec,
+    /// Initial eccentricity e = journal − bearing centre (m, global frame).
+    pub initial_eccentricity: [f64; 2],
+}
+
+/// What a joint is.
+#[derive(Debug, Clone, Serialize)]
+pub enum JointKind {
+    /// Ideal pin: the two points coincide (2 constraints).
+    Revolute,
+    /// Ideal slider: no relative rotation and point b stays on the line through a along `axis`
+    /// (2 constraints).
+    Prismatic {
+        /// Unit sliding direction in the frame of body a.
+        axis: [f64; 2],
+        /// Fixed relative angle φ_b − φ_a (rad).
+        angle: f64,
+    },
+    /// Revolute joint with clearance: body a carries the bearing, body b the journal. No
+    /// constraint: a contact-force law.
+    Clearance(ClearanceSpec),
+}
+
+impl JointKind {
+    /// The type name as written in model files.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            JointKind::Revolute => "revolute",
+            JointKind::Prismatic { .. } => "prismatic",
+            JointKind::Clearance(_) => "clearance",
+        }
+    }
+}
+
+/// A joint between two anchors.
+#[derive(Debug, Clone, Serialize)]
+pub struct Joint {
+    /// Name as in the model file.
+    pub name: String,
+    /// First point (for clearance joints: the bearing centre).
+    pub a: Anchor,
+    /// Second point (for clearance joints: the journal centre). Reactions are reported on b's body.
+    pub b: Anchor,
+    /// Joint type and data.
+    pub kind: JointKind,
+}
+
+/// A constant-speed driver on a revolute joint: φ_b − φ_a = θ0 + ω t.
+#[derive(Debug, Clone, Serialize)]
+pub struct Driver {
+    /// Name as in the model file.
+    pub name: String,
+    /// The driven revolute joint.
+    pub joint: JointId,
+    /// Angular speed ω (rad/s).
+    pub speed: f64,
+    /// Relative angle θ0 at t = 0 (rad).
+    pub initial_angle: f64,
+}
+
+/// An applied force element.
+#[derive(Debug, Clone, Serialize)]
+pub enum ForceElement {
+    /// Linear spring-damper between two points: tension F = k (ℓ − ℓ0) + c ℓ̇.
+    SpringDamper {
+        /// Name.
+        name: String,
+        /// First point.
+        a: Anchor,
+        /// Second point.
+        b: Anchor,
+        /// Stiffness k (N/m).
+        stiffness: f64,
+        /// Damping c (N·s/m).
+        damping: f64,
+        /// Free length ℓ0 (m).
+        free_length: f64,
+    },
+    /// Constant torque on a body (N·m, counter-clockwise positive).
+    Torque {
+        /// Name.
+        name: String,
+        /// Body.
+        body: BodyId,
+        /// Torque (N·m).
+        torque: f64,
+    },
+    /// Constant force at a body point, global frame (N).
+    PointForce {
+        /// Name.
+        name: String,
+        /// Point of application.
+        at: Anchor,
+        /// Force (N).
+        force: [f64; 2],
+    },
+}
+
+/// Baumgarte stabilisation: the constraint error obeys Φ̈ + 2αΦ̇ + β²Φ = 0.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Baumgarte {
+    /// α (1/s).
+    pub alpha: f64,
+    /// β (1/s).
+    pub beta: f64,
+}
+
+impl Default for Baumgarte {
+    /// α = β = 10 s⁻¹: a critically damped constraint error with a 0.1 s time constant, slow
+    /// enough not to stiffen the equations at crank speeds up to ~10⁴ rpm, fast enough to stop drift.
+    fn default() -> Self {
+        Baumgarte {
+            alpha: 10.0,
+            beta: 10.0,
+        }
+    }
+}
+
+/// Global settings.
+#[derive(Debug, Clone, Serialize)]
+pub struct Settings {
+    /// Gravitational acceleration (m/s²).
+    pub gravity: [f64; 2],
+    /// Constraint stabilisation.
+    pub baumgarte: Baumgarte,
+}
+
+/// Where a model came from (recorded in every result file).
+#[derive(Debug, Clone, Serialize)]
+pub struct ModelSource {
+    /// File path as given.
+    pub path: String,
+    /// SHA-256 of the file's bytes.
+    pub sha256: String,
+    /// `--set` overrides applied, in order.
+    pub overrides: Vec<String>,
+}
+
+/// A validated planar linkage.
+#[derive(Debug, Clone, Serialize)]
+pub struct Model {
+    /// Model name.
+    pub name: String,
+    /// Description.
+    pub description: String,
+    /// Settings.
+    pub settings: Settings,
+    /// Named ground points (global, m).
+    pub ground_points: Vec<(String, [f64; 2])>,
+    /// Moving bodies.
+    pub bodies: Vec<Body>,
+    /// Joints (ideal and clearance).
+    pub joints: Vec<Joint>,
+    /// Drivers.
+    pub drivers: Vec<Driver>,
+    /// Applied force elements (gravity is in `settings`).
+    pub forces: Vec<ForceElement>,
+    /// Provenance.
+    pub source: ModelSource,
+}
+
+impl Model {
+    /// The body with this id.
+    pub fn body(&self, id: BodyId) -> &Body {
+        &self.bodies[id.0]
+    }
+
+    /// The joint with this id.
+    pub fn joint(&self, id: JointId) -> &Joint {
+        &self.joints[id.0]
+    }
+
+    /// Id of the body with this name.
+    pub fn body_id(&self, name: &str) -> Option<BodyId> {
+        self.bodies.iter().position(|b| b.name == name).map(BodyId)
+    }
+
+    /// Id of the joint with this name.
+    pub fn joint_id(&self, name: &str) -> Option<JointId> {
+        self.joints.iter().position(|j| j.name == name).map(JointId)
+    }
+
+    /// Name of a frame ("ground" or the body's name).
+    pub fn frame_name(&self, frame: Frame) -> &str {
+        match frame {
+            Frame::Ground => "ground",
+            Frame::Body(id) => &self.body(id).name,
+        }
+    }
+
+    /// True if any joint is a clearance joint.
+    pub fn has_clearance_joints(&self) -> bool {
+        self.joints
+            .iter()
+            .any(|j| matches!(j.kind, JointKind::Clearance(_)))
+    }
+}

@@ -1,0 +1,5 @@
+//! TEMP stub
+#![allow(missing_docs)]
+#[derive(Debug, thiserror::Error)]
+#[error("stub")]
+pub struct SolveError;
