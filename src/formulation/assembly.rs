@@ -67,7 +67,11 @@ fn evaluate(set: &ConstraintSet, t: f64, q: &[f64], v: &[f64], out: &mut Constra
 pub fn assemble(model: &Model, set: &ConstraintSet, t0: f64) -> Result<Assembly, FormulationError> {
     let n = 3 * model.bodies.len();
     let m = set.n_rows();
-    let mut q: Vec<f64> = model.bodies.iter().flat_map(|b| [b.initial.x, b.initial.y, b.initial.phi]).collect();
+    let mut q: Vec<f64> = model
+        .bodies
+        .iter()
+        .flat_map(|b| [b.initial.x, b.initial.y, b.initial.phi])
+        .collect();
     let v_guess: Vec<f64> = model
         .bodies
         .iter()
@@ -84,12 +88,18 @@ pub fn assemble(model: &Model, set: &ConstraintSet, t0: f64) -> Result<Assembly,
         let phi = DVector::from_column_slice(&eval.phi);
         let svd = jac.svd(true, true);
         let eps = 1e-12 * svd.singular_values.max().max(1e-300);
-        let Ok(step) = svd.solve(&phi, eps) else { break };
+        let Ok(step) = svd.solve(&phi, eps) else {
+            break;
+        };
         // Backtracking: accept the first step length that reduces |Φ|.
         let mut length = 1.0;
         let mut accepted = false;
         while length > 1e-6 {
-            let trial: Vec<f64> = q.iter().zip(step.iter()).map(|(qi, si)| qi - length * si).collect();
+            let trial: Vec<f64> = q
+                .iter()
+                .zip(step.iter())
+                .map(|(qi, si)| qi - length * si)
+                .collect();
             let mut trial_eval = ConstraintEval::with_rows(m);
             evaluate(set, t0, &trial, &zero, &mut trial_eval);
             let r = max_abs(&trial_eval.phi);
@@ -131,7 +141,9 @@ pub fn assemble(model: &Model, set: &ConstraintSet, t0: f64) -> Result<Assembly,
     let defect = &jac * &v_guess_vec + phi_t;
     let svd = jac.clone().svd(true, true);
     let eps = 1e-12 * svd.singular_values.max().max(1e-300);
-    let correction = svd.solve(&defect, eps).unwrap_or_else(|_| DVector::zeros(n));
+    let correction = svd
+        .solve(&defect, eps)
+        .unwrap_or_else(|_| DVector::zeros(n));
     let v: Vec<f64> = (v_guess_vec - correction).iter().copied().collect();
 
     Ok(Assembly {

@@ -13,7 +13,7 @@ pub fn factor(a: &mut [f64], m: usize) -> Result<(), usize> {
             d -= a[j * m + k] * a[j * m + k];
         }
         let scale = a[j * m + j].abs().max(f64::MIN_POSITIVE);
-        if !(d > 1e-13 * scale) {
+        if d.is_nan() || d <= 1e-13 * scale {
             return Err(j);
         }
         let d = d.sqrt();

@@ -21,9 +21,9 @@
 //! 2. P. E. Nikravesh, *Computer-Aided Analysis of Mechanical Systems*, 1988, §6.
 
 use super::assembly::{Assembly, assemble};
-use super::{Formulation, FormulationError};
-use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
+use super::{Formulation, FormulationError, Outputs};
 use crate::mechanics::AppliedForces;
+use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
 use crate::model::{Baumgarte, JointKind, Model};
 use std::cell::RefCell;
 
@@ -60,6 +60,8 @@ pub struct Dae {
     constraints: ConstraintSet,
     /// Rows used in the dynamics (all but the redundant ones).
     active: Vec<usize>,
+    /// Rows left out as combinations of earlier rows.
+    redundant: Vec<usize>,
     applied: AppliedForces,
     inv_mass: Vec<f64>,
     baumgarte: Baumgarte,
@@ -104,6 +106,7 @@ impl Dae {
         Ok(Dae {
             model: model.clone(),
             active,
+            redundant,
             applied: AppliedForces::from_model(model),
             inv_mass,
             baumgarte: options.baumgarte.unwrap_or(model.settings.baumgarte),
@@ -129,6 +132,11 @@ impl Dae {
         &self.assembly
     }
 
+    /// Rows of [`Dae::constraints`] left out of the dynamics as redundant.
+    pub fn redundant_rows(&self) -> &[usize] {
+        &self.redundant
+    }
+
     /// The dynamic constraint rows.
     pub fn constraints(&self) -> &ConstraintSet {
         &self.constraints
@@ -145,14 +153,22 @@ impl Dae {
     }
 
     /// Core evaluation: q̈ into `acc`, λ of the active rows into the work buffer.
-    fn accelerations_into(&self, t: f64, y: &[f64], acc: &mut [f64], work: &mut Work) -> Result<(), FormulationError> {
+    fn accelerations_into(
+        &self,
+        t: f64,
+        y: &[f64],
+        acc: &mut [f64],
+        work: &mut Work,
+    ) -> Result<(), FormulationError> {
         let n = self.n_coordinates();
         let (q, v) = y.split_at(n);
         for (i, sc) in work.sin_cos.iter_mut().enumerate() {
             *sc = q[3 * i + 2].sin_cos();
         }
-        self.applied.evaluate_into(q, v, &work.sin_cos, &mut work.forces);
-        self.constraints.evaluate_into(t, q, v, &work.sin_cos, &mut work.constraints);
+        self.applied
+            .evaluate_into(q, v, &work.sin_cos, &mut work.forces);
+        self.constraints
+            .evaluate_into(t, q, v, &work.sin_cos, &mut work.constraints);
 
         let ma = self.active.len();
         let ce = &work.constraints;
@@ -246,7 +262,9 @@ impl Dae {
     pub fn reactions(&self, t: f64, y: &[f64], eval: &DaeEvaluation) -> (Vec<[f64; 2]>, Vec<f64>) {
         let n = self.n_coordinates();
         let (q, v) = y.split_at(n);
-        let sin_cos: Vec<(f64, f64)> = (0..self.model.bodies.len()).map(|i| q[3 * i + 2].sin_cos()).collect();
+        let sin_cos: Vec<(f64, f64)> = (0..self.model.bodies.len())
+            .map(|i| q[3 * i + 2].sin_cos())
+            .collect();
         let mut ce = ConstraintEval::with_rows(self.constraints.n_rows());
         self.constraints.evaluate_into(t, q, v, &sin_cos, &mut ce);
         let mut joint_forces = vec![[0.0; 2]; self.model.joints.len()];
@@ -255,7 +273,9 @@ impl Dae {
             let l = eval.lambda[k];
             let jb = ce.rows[k].jac_b;
             match source {
-                RowSource::JointAxis { joint, .. } | RowSource::PrismaticAngle(joint) | RowSource::PrismaticNormal(joint) => {
+                RowSource::JointAxis { joint, .. }
+                | RowSource::PrismaticAngle(joint)
+                | RowSource::PrismaticNormal(joint) => {
                     let f = &mut joint_forces[joint.0];
                     f[0] -= jb[0] * l;
                     f[1] -= jb[1] * l;
@@ -265,10 +285,12 @@ impl Dae {
         }
         (joint_forces, driver_torques)
     }
+}
 
+impl Outputs for Dae {
     /// Names of the output columns, in order: per body `B.x B.y B.phi B.vx B.vy B.omega B.ax B.ay
     /// B.alpha`, per ideal joint `J.fx J.fy`, per driver `D.torque`.
-    pub fn output_names(&self) -> Vec<String> {
+    fn output_names(&self) -> Vec<String> {
         let mut names = Vec::new();
         for b in &self.model.bodies {
             for c in ["x", "y", "phi", "vx", "vy", "omega", "ax", "ay", "alpha"] {
@@ -287,9 +309,9 @@ impl Dae {
         names
     }
 
-    /// Output values at (t, y) in the order of [`Dae::output_names`]; also returns the largest
+    /// Output values at (t, y) in the order of [`Outputs::output_names`]; also returns the largest
     /// |Φ| over the rows.
-    pub fn outputs_into(&self, t: f64, y: &[f64], out: &mut Vec<f64>) -> Result<f64, FormulationError> {
+    fn outputs_into(&self, t: f64, y: &[f64], out: &mut Vec<f64>) -> Result<f64, FormulationError> {
         let eval = self.evaluate(t, y)?;
         let n = self.n_coordinates();
         out.clear();

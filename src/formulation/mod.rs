@@ -80,12 +80,23 @@ pub trait Formulation {
     }
 }
 
+/// Output columns a formulation can report at a sample (t, y): body states, reactions, torques,
+/// contact quantities. Names are `object.quantity`, as in the model file.
+pub trait Outputs {
+    /// Column names, in order.
+    fn output_names(&self) -> Vec<String>;
+
+    /// Writes the columns at (t, y) into `out` (cleared first) and returns the largest
+    /// constraint violation |Φ| at that sample (0 for formulations without constraints).
+    fn outputs_into(&self, t: f64, y: &[f64], out: &mut Vec<f64>) -> Result<f64, FormulationError>;
+}
+
 /// Errors raised while building or evaluating a formulation.
 #[derive(Debug, Error)]
 pub enum FormulationError {
     /// Newton's method could not bring the constraints to zero from the initial guesses.
     #[error(
-        "the linkage cannot be assembled: constraint of joint \"{joint}\" is off by {residual:.3e} after {iterations} Newton iterations (check the body initial guesses and link lengths)"
+        "the linkage cannot be assembled: the constraint of joint \"{joint}\" is still off by {residual:.3e} (m or rad) after {iterations} Newton iterations; check the link lengths and the bodies' initial guesses"
     )]
     Unassemblable {
         /// Joint or driver whose constraint has the largest residual.

@@ -55,10 +55,14 @@ impl ConstraintRow {
     pub fn dot_velocity(&self, v: &[f64]) -> f64 {
         let mut s = 0.0;
         if let Some(a) = self.body_a {
-            s += self.jac_a[0] * v[3 * a] + self.jac_a[1] * v[3 * a + 1] + self.jac_a[2] * v[3 * a + 2];
+            s += self.jac_a[0] * v[3 * a]
+                + self.jac_a[1] * v[3 * a + 1]
+                + self.jac_a[2] * v[3 * a + 2];
         }
         if let Some(b) = self.body_b {
-            s += self.jac_b[0] * v[3 * b] + self.jac_b[1] * v[3 * b + 1] + self.jac_b[2] * v[3 * b + 2];
+            s += self.jac_b[0] * v[3 * b]
+                + self.jac_b[1] * v[3 * b + 1]
+                + self.jac_b[2] * v[3 * b + 2];
         }
         s
     }
@@ -143,7 +147,13 @@ impl ConstraintSet {
             let (a, sa, b, sb) = (j.a.frame, j.a.local, j.b.frame, j.b.local);
             match &j.kind {
                 JointKind::Revolute => {
-                    elements.push(Element::Revolute { a, sa, b, sb, offset: [0.0; 2] });
+                    elements.push(Element::Revolute {
+                        a,
+                        sa,
+                        b,
+                        sb,
+                        offset: [0.0; 2],
+                    });
                 }
                 JointKind::Clearance(spec) if assembling => {
                     elements.push(Element::Revolute {
@@ -204,7 +214,11 @@ impl ConstraintSet {
     pub fn row_name(&self, model: &Model, k: usize) -> String {
         match self.sources.get(k) {
             Some(RowSource::JointAxis { joint, axis }) => {
-                format!("{}.{}", model.joint(*joint).name, if *axis == 0 { "x" } else { "y" })
+                format!(
+                    "{}.{}",
+                    model.joint(*joint).name,
+                    if *axis == 0 { "x" } else { "y" }
+                )
             }
             Some(RowSource::PrismaticAngle(j)) => format!("{}.angle", model.joint(*j).name),
             Some(RowSource::PrismaticNormal(j)) => format!("{}.normal", model.joint(*j).name),
@@ -215,11 +229,25 @@ impl ConstraintSet {
 
     /// Evaluates Φ, Φ_t, Φ_q, Φ̇ and γ at (t, q, q̇) into `out` (sized by [`ConstraintEval::with_rows`]).
     /// `sin_cos` holds (sin φ, cos φ) of every body.
-    pub fn evaluate_into(&self, t: f64, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)], out: &mut ConstraintEval) {
+    pub fn evaluate_into(
+        &self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        sin_cos: &[(f64, f64)],
+        out: &mut ConstraintEval,
+    ) {
         let mut k = 0;
         for e in &self.elements {
             match e {
-                Element::Revolute { a, sa, b, sb, offset, .. } => {
+                Element::Revolute {
+                    a,
+                    sa,
+                    b,
+                    sb,
+                    offset,
+                    ..
+                } => {
                     let pa = point_state(*a, *sa, q, v, sin_cos);
                     let pb = point_state(*b, *sb, q, v, sin_cos);
                     for axis in 0..2 {
@@ -228,8 +256,16 @@ impl ConstraintSet {
                         row.body_b = body_index(*b);
                         // ∂(r + A s)/∂φ = perp(A s).
                         let (ua, ub) = (perp(pa.arm), perp(pb.arm));
-                        row.jac_a = if axis == 0 { [-1.0, 0.0, -ua[0]] } else { [0.0, -1.0, -ua[1]] };
-                        row.jac_b = if axis == 0 { [1.0, 0.0, ub[0]] } else { [0.0, 1.0, ub[1]] };
+                        row.jac_a = if axis == 0 {
+                            [-1.0, 0.0, -ua[0]]
+                        } else {
+                            [0.0, -1.0, -ua[1]]
+                        };
+                        row.jac_b = if axis == 0 {
+                            [1.0, 0.0, ub[0]]
+                        } else {
+                            [0.0, 1.0, ub[1]]
+                        };
                         out.phi[k + axis] = pb.position[axis] - pa.position[axis] - offset[axis];
                         out.phi_t[k + axis] = 0.0;
                         out.phi_dot[k + axis] = pb.velocity[axis] - pa.velocity[axis];
@@ -239,7 +275,15 @@ impl ConstraintSet {
                     }
                     k += 2;
                 }
-                Element::Prismatic { a, sa, b, sb, normal, angle, .. } => {
+                Element::Prismatic {
+                    a,
+                    sa,
+                    b,
+                    sb,
+                    normal,
+                    angle,
+                    ..
+                } => {
                     let pa = point_state(*a, *sa, q, v, sin_cos);
                     let pb = point_state(*b, *sb, q, v, sin_cos);
                     let (phi_a, w_a) = angle_of(*a, q, v);
@@ -259,8 +303,14 @@ impl ConstraintSet {
                         Frame::Ground => *normal,
                         Frame::Body(id) => rotate(sin_cos[id.0], *normal),
                     };
-                    let d = [pb.position[0] - pa.position[0], pb.position[1] - pa.position[1]];
-                    let d_dot = [pb.velocity[0] - pa.velocity[0], pb.velocity[1] - pa.velocity[1]];
+                    let d = [
+                        pb.position[0] - pa.position[0],
+                        pb.position[1] - pa.position[1],
+                    ];
+                    let d_dot = [
+                        pb.velocity[0] - pa.velocity[0],
+                        pb.velocity[1] - pa.velocity[1],
+                    ];
                     let n_perp = perp(n);
                     let row = &mut out.rows[k + 1];
                     row.body_a = body_index(*a);
@@ -275,11 +325,17 @@ impl ConstraintSet {
                         pb.arm[0] * pb.omega * pb.omega - pa.arm[0] * pa.omega * pa.omega,
                         pb.arm[1] * pb.omega * pb.omega - pa.arm[1] * pa.omega * pa.omega,
                     ];
-                    out.gamma[k + 1] =
-                        w_a * w_a * dot(n, d) - 2.0 * w_a * dot(n_perp, d_dot) + dot(n, centripetal);
+                    out.gamma[k + 1] = w_a * w_a * dot(n, d) - 2.0 * w_a * dot(n_perp, d_dot)
+                        + dot(n, centripetal);
                     k += 2;
                 }
-                Element::Driver { a, b, theta0, omega, .. } => {
+                Element::Driver {
+                    a,
+                    b,
+                    theta0,
+                    omega,
+                    ..
+                } => {
                     let (phi_a, w_a) = angle_of(*a, q, v);
                     let (phi_b, w_b) = angle_of(*b, q, v);
                     let row = &mut out.rows[k];
@@ -397,8 +453,13 @@ initial_angle = 0.2
                 let (mut qp, mut qm) = (q, q);
                 qp[i] += h;
                 qm[i] -= h;
-                let fd = (eval(&set, t, &qp, &v).phi[k] - eval(&set, t, &qm, &v).phi[k]) / (2.0 * h);
-                assert!((fd - jac[i]).abs() < 1e-6, "row {k} coord {i}: fd {fd} vs {}", jac[i]);
+                let fd =
+                    (eval(&set, t, &qp, &v).phi[k] - eval(&set, t, &qm, &v).phi[k]) / (2.0 * h);
+                assert!(
+                    (fd - jac[i]).abs() < 1e-6,
+                    "row {k} coord {i}: fd {fd} vs {}",
+                    jac[i]
+                );
             }
             // Φ̇ = Φ_q v + Φ_t
             let pd: f64 = jac.iter().zip(&v).map(|(a, b)| a * b).sum::<f64>() + base.phi_t[k];
@@ -406,8 +467,14 @@ initial_angle = 0.2
             // d/dt Φ̇(t, q + v t, v) = −γ for q̈ = 0.
             let qp: Vec<f64> = q.iter().zip(&v).map(|(a, b)| a + h * b).collect();
             let qm: Vec<f64> = q.iter().zip(&v).map(|(a, b)| a - h * b).collect();
-            let dd = (eval(&set, t + h, &qp, &v).phi_dot[k] - eval(&set, t - h, &qm, &v).phi_dot[k]) / (2.0 * h);
-            assert!((dd + base.gamma[k]).abs() < 1e-6, "row {k}: d/dt phi_dot {dd} vs -gamma {}", -base.gamma[k]);
+            let dd = (eval(&set, t + h, &qp, &v).phi_dot[k]
+                - eval(&set, t - h, &qm, &v).phi_dot[k])
+                / (2.0 * h);
+            assert!(
+                (dd + base.gamma[k]).abs() < 1e-6,
+                "row {k}: d/dt phi_dot {dd} vs -gamma {}",
+                -base.gamma[k]
+            );
         }
     }
 }

@@ -19,7 +19,11 @@ impl AppliedForces {
     pub fn from_model(model: &Model) -> Self {
         let g = model.settings.gravity;
         AppliedForces {
-            weights: model.bodies.iter().map(|b| [b.mass * g[0], b.mass * g[1]]).collect(),
+            weights: model
+                .bodies
+                .iter()
+                .map(|b| [b.mass * g[0], b.mass * g[1]])
+                .collect(),
             elements: model.forces.clone(),
         }
     }
@@ -34,7 +38,9 @@ impl AppliedForces {
         for e in &self.elements {
             match e {
                 ForceElement::Torque { body, torque, .. } => out[3 * body.0 + 2] += torque,
-                ForceElement::PointForce { at, force, .. } => add_point_force(at, *force, q, v, sin_cos, out),
+                ForceElement::PointForce { at, force, .. } => {
+                    add_point_force(at, *force, q, v, sin_cos, out)
+                }
                 ForceElement::SpringDamper {
                     a,
                     b,
@@ -45,7 +51,10 @@ impl AppliedForces {
                 } => {
                     let pa = point_state(a.frame, a.local, q, v, sin_cos);
                     let pb = point_state(b.frame, b.local, q, v, sin_cos);
-                    let d = [pb.position[0] - pa.position[0], pb.position[1] - pa.position[1]];
+                    let d = [
+                        pb.position[0] - pa.position[0],
+                        pb.position[1] - pa.position[1],
+                    ];
                     let length = d[0].hypot(d[1]);
                     if length < 1e-12 {
                         // Direction undefined with coincident points: no force, as for any
@@ -53,7 +62,8 @@ impl AppliedForces {
                         continue;
                     }
                     let u = [d[0] / length, d[1] / length];
-                    let rate = u[0] * (pb.velocity[0] - pa.velocity[0]) + u[1] * (pb.velocity[1] - pa.velocity[1]);
+                    let rate = u[0] * (pb.velocity[0] - pa.velocity[0])
+                        + u[1] * (pb.velocity[1] - pa.velocity[1]);
                     let tension = stiffness * (length - free_length) + damping * rate;
                     // Tension pulls b towards a and a towards b.
                     add_point_force(a, [tension * u[0], tension * u[1]], q, v, sin_cos, out);
@@ -81,7 +91,9 @@ impl AppliedForces {
             {
                 let pa = point_state(a.frame, a.local, q, &zero, sin_cos);
                 let pb = point_state(b.frame, b.local, q, &zero, sin_cos);
-                let stretch = (pb.position[0] - pa.position[0]).hypot(pb.position[1] - pa.position[1]) - free_length;
+                let stretch = (pb.position[0] - pa.position[0])
+                    .hypot(pb.position[1] - pa.position[1])
+                    - free_length;
                 u += 0.5 * stiffness * stretch * stretch;
             }
         }
@@ -91,7 +103,14 @@ impl AppliedForces {
 
 /// Adds force F at an anchor (nothing if on the ground).
 #[inline]
-pub fn add_point_force(at: &Anchor, force: [f64; 2], q: &[f64], v: &[f64], sin_cos: &[(f64, f64)], out: &mut [f64]) {
+pub fn add_point_force(
+    at: &Anchor,
+    force: [f64; 2],
+    q: &[f64],
+    v: &[f64],
+    sin_cos: &[(f64, f64)],
+    out: &mut [f64],
+) {
     if let Frame::Body(id) = at.frame {
         let p = point_state(at.frame, at.local, q, v, sin_cos);
         out[3 * id.0] += force[0];

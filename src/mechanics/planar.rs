@@ -50,7 +50,13 @@ pub struct PointState {
 /// State of the point with local coordinates `s` on `frame`, from the body coordinates `q`
 /// and velocities `v` (3 per body) and per-body (sin φ, cos φ) in `sin_cos`.
 #[inline]
-pub fn point_state(frame: Frame, s: [f64; 2], q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> PointState {
+pub fn point_state(
+    frame: Frame,
+    s: [f64; 2],
+    q: &[f64],
+    v: &[f64],
+    sin_cos: &[(f64, f64)],
+) -> PointState {
     match frame {
         Frame::Ground => PointState {
             position: s,

@@ -86,7 +86,10 @@ impl Builder<'_, '_> {
         if x >= 0.0 {
             Ok(x)
         } else {
-            Err(self.err(v.span(), format!("expected a non-negative {what}, found {x}")))
+            Err(self.err(
+                v.span(),
+                format!("expected a non-negative {what}, found {x}"),
+            ))
         }
     }
 
@@ -95,7 +98,10 @@ impl Builder<'_, '_> {
         if x.is_finite() && y.is_finite() {
             Ok([x, y])
         } else {
-            Err(self.err(v.span(), format!("expected a finite {what}, found [{x}, {y}]")))
+            Err(self.err(
+                v.span(),
+                format!("expected a finite {what}, found [{x}, {y}]"),
+            ))
         }
     }
 
@@ -164,7 +170,10 @@ impl Builder<'_, '_> {
         for (name, p) in points {
             let n = name.get_ref().trim().to_string();
             if n.is_empty() {
-                return Err(self.err(name.span(), format!("expected a non-empty point name on {owner}")));
+                return Err(self.err(
+                    name.span(),
+                    format!("expected a non-empty point name on {owner}"),
+                ));
             }
             out.push((n, self.vec2(p, "point (m)")?));
         }
@@ -223,7 +232,8 @@ impl Builder<'_, '_> {
                 .iter()
                 .position(|b| b.name == body_name)
                 .ok_or_else(|| {
-                    let names = std::iter::once("ground").chain(scope.bodies.iter().map(|b| b.name.as_str()));
+                    let names = std::iter::once("ground")
+                        .chain(scope.bodies.iter().map(|b| b.name.as_str()));
                     self.err(
                         body.span(),
                         format!(
@@ -243,12 +253,15 @@ impl Builder<'_, '_> {
             .find(|(n, _)| n == point_name)
             .map(|(_, p)| *p)
             .ok_or_else(|| {
+                let names: Vec<&str> = points.iter().map(|(n, _)| n.as_str()).collect();
+                let hint = match did_you_mean(point_name, names.iter().copied()) {
+                    h if !h.is_empty() => h,
+                    _ if names.is_empty() => format!("; {where_} has no points"),
+                    _ => format!("; {where_} has points {}", names.join(", ")),
+                };
                 self.err(
                     point.span(),
-                    format!(
-                        "unknown point \"{point_name}\" on {where_} in {owner}{}",
-                        did_you_mean(point_name, points.iter().map(|(n, _)| n.as_str()))
-                    ),
+                    format!("unknown point \"{point_name}\" on {where_} in {owner}{hint}"),
                 )
             })?;
         Ok(Anchor {
@@ -259,21 +272,35 @@ impl Builder<'_, '_> {
     }
 
     /// Refuses fields that do not belong to the entry's type.
-    fn only_fields(&self, present: &[(&str, Option<Range<usize>>)], allowed: &[&str], what: &str) -> Res<()> {
+    fn only_fields(
+        &self,
+        present: &[(&str, Option<Range<usize>>)],
+        allowed: &[&str],
+        what: &str,
+    ) -> Res<()> {
         for (field, span) in present {
             if let Some(span) = span
                 && !allowed.contains(field)
             {
                 return Err(self.err(
                     span.clone(),
-                    format!("field `{field}` does not belong to a {what}; expected only {}", allowed.join(", ")),
+                    format!(
+                        "field `{field}` does not belong to a {what}; expected only {}",
+                        allowed.join(", ")
+                    ),
                 ));
             }
         }
         Ok(())
     }
 
-    fn required<'n, T>(&self, v: &'n Option<T>, field: &str, what: &str, at: Range<usize>) -> Res<&'n T> {
+    fn required<'n, T>(
+        &self,
+        v: &'n Option<T>,
+        field: &str,
+        what: &str,
+        at: Range<usize>,
+    ) -> Res<&'n T> {
         v.as_ref()
             .ok_or_else(|| self.err(at, format!("missing field `{field}` of {what}")))
     }
@@ -301,10 +328,19 @@ impl Builder<'_, '_> {
                 ("journal_radius", sn(&j.journal_radius)),
                 ("youngs_modulus", sn(&j.youngs_modulus)),
                 ("poisson_ratio", sn(&j.poisson_ratio)),
-                ("bearing_material", j.bearing_material.as_ref().map(|v| v.span())),
-                ("journal_material", j.journal_material.as_ref().map(|v| v.span())),
+                (
+                    "bearing_material",
+                    j.bearing_material.as_ref().map(|v| v.span()),
+                ),
+                (
+                    "journal_material",
+                    j.journal_material.as_ref().map(|v| v.span()),
+                ),
                 ("stiffness", sn(&j.stiffness)),
-                ("initial_eccentricity", j.initial_eccentricity.as_ref().map(|v| v.span())),
+                (
+                    "initial_eccentricity",
+                    j.initial_eccentricity.as_ref().map(|v| v.span()),
+                ),
                 ("contact", j.contact.as_ref().map(|v| v.span())),
                 ("friction", j.friction.as_ref().map(|v| v.span())),
             ];
@@ -376,7 +412,11 @@ impl Builder<'_, '_> {
                         self.required(&j.journal_point, "journal_point", &what, at.clone())?,
                         &owner,
                     )?;
-                    (a, b, JointKind::Clearance(self.clearance(j, &what, at.clone())?))
+                    (
+                        a,
+                        b,
+                        JointKind::Clearance(self.clearance(j, &what, at.clone())?),
+                    )
                 }
                 other => {
                     return Err(self.err(
@@ -430,12 +470,18 @@ impl Builder<'_, '_> {
         if (-1.0..0.5).contains(&nu) {
             Ok(nu)
         } else {
-            Err(self.err(v.span(), format!("expected a Poisson ratio in [-1, 0.5), found {nu}")))
+            Err(self.err(
+                v.span(),
+                format!("expected a Poisson ratio in [-1, 0.5), found {nu}"),
+            ))
         }
     }
 
     fn clearance(&self, j: &JointFile, what: &str, at: Range<usize>) -> Res<ClearanceSpec> {
-        let clearance = self.positive(self.required(&j.clearance, "clearance", what, at.clone())?, "radial clearance (m)")?;
+        let clearance = self.positive(
+            self.required(&j.clearance, "clearance", what, at.clone())?,
+            "radial clearance (m)",
+        )?;
         let journal_radius = self.positive(
             self.required(&j.journal_radius, "journal_radius", what, at.clone())?,
             "journal radius (m)",
@@ -449,10 +495,25 @@ impl Builder<'_, '_> {
                 .map(|v| self.positive(v, "Young's modulus (Pa)"))
                 .transpose()?
                 .unwrap_or(207e9),
-            poisson_ratio: j.poisson_ratio.as_ref().map(|v| self.poisson(v)).transpose()?.unwrap_or(0.3),
+            poisson_ratio: j
+                .poisson_ratio
+                .as_ref()
+                .map(|v| self.poisson(v))
+                .transpose()?
+                .unwrap_or(0.3),
         };
-        let bearing_material = j.bearing_material.as_ref().map(|m| self.material(m)).transpose()?.unwrap_or(shared);
-        let journal_material = j.journal_material.as_ref().map(|m| self.material(m)).transpose()?.unwrap_or(shared);
+        let bearing_material = j
+            .bearing_material
+            .as_ref()
+            .map(|m| self.material(m))
+            .transpose()?
+            .unwrap_or(shared);
+        let journal_material = j
+            .journal_material
+            .as_ref()
+            .map(|m| self.material(m))
+            .transpose()?
+            .unwrap_or(shared);
         let stiffness_override = j
             .stiffness
             .as_ref()
@@ -520,7 +581,10 @@ impl Builder<'_, '_> {
             Some(v) => {
                 let cr = self.finite(v, "coefficient of restitution")?;
                 if !(cr > 0.0 && cr <= 1.0) {
-                    return Err(self.err(v.span(), format!("expected a coefficient of restitution in (0, 1], found {cr}")));
+                    return Err(self.err(
+                        v.span(),
+                        format!("expected a coefficient of restitution in (0, 1], found {cr}"),
+                    ));
                 }
                 cr
             }
@@ -530,7 +594,10 @@ impl Builder<'_, '_> {
             Some(v) => {
                 let n = self.finite(v, "exponent")?;
                 if !(1.0..=3.0).contains(&n) {
-                    return Err(self.err(v.span(), format!("expected a contact exponent in [1, 3], found {n}")));
+                    return Err(self.err(
+                        v.span(),
+                        format!("expected a contact exponent in [1, 3], found {n}"),
+                    ));
                 }
                 n
             }
@@ -550,7 +617,11 @@ impl Builder<'_, '_> {
         let t = fr.get_ref();
         match t.law.as_ref().map(|l| (l.get_ref().trim(), l.span())) {
             Some(("none", _)) => {
-                let extra = [("coefficient", &t.coefficient), ("v0", &t.v0), ("v1", &t.v1)];
+                let extra = [
+                    ("coefficient", &t.coefficient),
+                    ("v0", &t.v0),
+                    ("v1", &t.v1),
+                ];
                 if let Some((field, Some(v))) = extra.iter().find(|(_, v)| v.is_some()) {
                     return Err(self.err(
                         v.span(),
@@ -566,13 +637,28 @@ impl Builder<'_, '_> {
                     .map(|v| self.non_negative(v, "friction coefficient"))
                     .transpose()?
                     .unwrap_or(0.1);
-                let v0 = t.v0.as_ref().map(|v| self.non_negative(v, "v0 (m/s)")).transpose()?.unwrap_or(1e-4);
-                let v1 = t.v1.as_ref().map(|v| self.positive(v, "v1 (m/s)")).transpose()?.unwrap_or(1e-3);
+                let v0 =
+                    t.v0.as_ref()
+                        .map(|v| self.non_negative(v, "v0 (m/s)"))
+                        .transpose()?
+                        .unwrap_or(1e-4);
+                let v1 =
+                    t.v1.as_ref()
+                        .map(|v| self.positive(v, "v1 (m/s)"))
+                        .transpose()?
+                        .unwrap_or(1e-3);
                 if v1 <= v0 {
                     let span = t.v1.as_ref().map_or_else(|| fr.span(), |v| v.span());
-                    return Err(self.err(span, format!("expected v1 > v0, found v0 = {v0}, v1 = {v1}")));
+                    return Err(self.err(
+                        span,
+                        format!("expected v1 > v0, found v0 = {v0}, v1 = {v1}"),
+                    ));
                 }
-                Ok(FrictionSpec::Ambrosio { coefficient, v0, v1 })
+                Ok(FrictionSpec::Ambrosio {
+                    coefficient,
+                    v0,
+                    v1,
+                })
             }
             Some((other, span)) => Err(self.err(
                 span,
@@ -598,15 +684,18 @@ impl Builder<'_, '_> {
                 ));
             }
             let joint_name = d.joint.get_ref().trim();
-            let id = joints.iter().position(|j| j.name == joint_name).ok_or_else(|| {
-                self.err(
-                    d.joint.span(),
-                    format!(
-                        "unknown joint \"{joint_name}\" in driver \"{name}\"{}",
-                        did_you_mean(joint_name, joints.iter().map(|j| j.name.as_str()))
-                    ),
-                )
-            })?;
+            let id = joints
+                .iter()
+                .position(|j| j.name == joint_name)
+                .ok_or_else(|| {
+                    self.err(
+                        d.joint.span(),
+                        format!(
+                            "unknown joint \"{joint_name}\" in driver \"{name}\"{}",
+                            did_you_mean(joint_name, joints.iter().map(|j| j.name.as_str()))
+                        ),
+                    )
+                })?;
             if !matches!(joints[id].kind, JointKind::Revolute) {
                 return Err(self.err(
                     d.joint.span(),
@@ -619,19 +708,26 @@ impl Builder<'_, '_> {
             if !driven.insert(id) {
                 return Err(self.err(
                     d.joint.span(),
-                    format!("joint \"{joint_name}\" already has a driver; expected one driver per joint"),
+                    format!(
+                        "joint \"{joint_name}\" already has a driver; expected one driver per joint"
+                    ),
                 ));
             }
             let speed = match (&d.speed_rpm, &d.speed) {
                 (Some(rpm), None) => self.finite(rpm, "speed_rpm")? * std::f64::consts::PI / 30.0,
                 (None, Some(w)) => self.finite(w, "speed (rad/s)")?,
                 (Some(_), Some(w)) => {
-                    return Err(self.err(w.span(), "give either `speed_rpm` or `speed` (rad/s), not both"));
+                    return Err(self.err(
+                        w.span(),
+                        "give either `speed_rpm` or `speed` (rad/s), not both",
+                    ));
                 }
                 (None, None) => {
                     return Err(self.err(
                         d.name.span(),
-                        format!("missing field `speed_rpm` or `speed` (rad/s) of driver \"{name}\""),
+                        format!(
+                            "missing field `speed_rpm` or `speed` (rad/s) of driver \"{name}\""
+                        ),
                     ));
                 }
             };
@@ -679,7 +775,15 @@ impl Builder<'_, '_> {
                 "spring-damper" => {
                     self.only_fields(
                         &present,
-                        &["body_a", "point_a", "body_b", "point_b", "stiffness", "damping", "free_length"],
+                        &[
+                            "body_a",
+                            "point_a",
+                            "body_b",
+                            "point_b",
+                            "stiffness",
+                            "damping",
+                            "free_length",
+                        ],
                         "spring-damper",
                     )?;
                     let a = self.anchor(
@@ -694,7 +798,9 @@ impl Builder<'_, '_> {
                         self.required(&f.point_b, "point_b", &what, at.clone())?,
                         &owner,
                     )?;
-                    let opt = |v: &Option<Num>, what| v.as_ref().map(|v| self.non_negative(v, what)).transpose();
+                    let opt = |v: &Option<Num>, what| {
+                        v.as_ref().map(|v| self.non_negative(v, what)).transpose()
+                    };
                     ForceElement::SpringDamper {
                         name,
                         a,
@@ -714,7 +820,10 @@ impl Builder<'_, '_> {
                     ForceElement::Torque {
                         name,
                         body,
-                        torque: self.finite(self.required(&f.torque, "torque", &what, at.clone())?, "torque (N·m)")?,
+                        torque: self.finite(
+                            self.required(&f.torque, "torque", &what, at.clone())?,
+                            "torque (N·m)",
+                        )?,
                     }
                 }
                 "force" => {
@@ -723,12 +832,18 @@ impl Builder<'_, '_> {
                     let point = self.required(&f.point, "point", &what, at.clone())?;
                     let at_anchor = self.anchor(scope, body, point, &owner)?;
                     if at_anchor.frame == Frame::Ground {
-                        return Err(self.err(body.span(), format!("{owner} acts on the ground; expected a moving body")));
+                        return Err(self.err(
+                            body.span(),
+                            format!("{owner} acts on the ground; expected a moving body"),
+                        ));
                     }
                     ForceElement::PointForce {
                         name,
                         at: at_anchor,
-                        force: self.vec2(self.required(&f.force, "force", &what, at.clone())?, "force (N)")?,
+                        force: self.vec2(
+                            self.required(&f.force, "force", &what, at.clone())?,
+                            "force (N)",
+                        )?,
                     }
                 }
                 other => {
@@ -750,14 +865,19 @@ impl Builder<'_, '_> {
 
     fn body_of(&self, scope: &Scope<'_>, body: &Name, owner: &str) -> Res<BodyId> {
         let n = body.get_ref().trim();
-        scope.bodies.iter().position(|b| b.name == n).map(BodyId).ok_or_else(|| {
-            self.err(
-                body.span(),
-                format!(
-                    "unknown body \"{n}\" in {owner}{}",
-                    did_you_mean(n, scope.bodies.iter().map(|b| b.name.as_str()))
-                ),
-            )
-        })
+        scope
+            .bodies
+            .iter()
+            .position(|b| b.name == n)
+            .map(BodyId)
+            .ok_or_else(|| {
+                self.err(
+                    body.span(),
+                    format!(
+                        "unknown body \"{n}\" in {owner}{}",
+                        did_you_mean(n, scope.bodies.iter().map(|b| b.name.as_str()))
+                    ),
+                )
+            })
     }
 }

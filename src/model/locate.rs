@@ -51,7 +51,7 @@ pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
 /// Falls back to the innermost table header before the offset, or "(file)".
 pub fn field_path(text: &str, offset: usize) -> String {
     let Ok(doc) = DeTable::parse(text) else {
-        return "(syntax)".to_string();
+        return "(TOML syntax)".to_string();
     };
     let mut entries = Vec::new();
     walk_table(doc.get_ref(), "", &mut entries);

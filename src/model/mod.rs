@@ -35,7 +35,10 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Model, M
         (raw, None)
     } else {
         let patched = overrides::apply(text, file, overrides)?;
-        (file::parse(&patched, file).map_err(|e| e.after_overrides())?, Some(patched))
+        (
+            file::parse(&patched, file).map_err(|e| e.after_overrides())?,
+            Some(patched),
+        )
     };
     let source = ModelSource {
         path: file.to_string(),

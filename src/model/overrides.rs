@@ -10,10 +10,12 @@ use toml::{Table, Value};
 
 /// Returns the model text with every override applied, in order.
 pub fn apply(text: &str, file: &str, overrides: &[String]) -> Result<String, ModelError> {
-    let mut doc: Table = text.parse().map_err(|e: toml::de::Error| ModelError::WholeFile {
-        file: file.to_string(),
-        message: e.message().trim().to_string(),
-    })?;
+    let mut doc: Table = text
+        .parse()
+        .map_err(|e: toml::de::Error| ModelError::WholeFile {
+            file: file.to_string(),
+            message: e.message().trim().to_string(),
+        })?;
     for assignment in overrides {
         let fail = |message: String| ModelError::Override {
             assignment: assignment.clone(),

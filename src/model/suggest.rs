@@ -1,13 +1,15 @@
 //! "Did you mean …?" for misspelt names.
 
-/// The candidate closest to `word` by edit distance, if it is close enough to be a likely typo
-/// (distance ≤ 2, or ≤ a third of the word's length for long words).
+/// The candidate closest to `word` by edit distance, if it is close enough to be a likely typo:
+/// at most a third of the word's length (at least 1), and fewer edits than the word has
+/// characters (so "Z" does not suggest "A").
 pub fn closest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
-    let limit = (word.chars().count() / 3).max(2);
+    let length = word.chars().count();
+    let limit = (length / 3).max(1);
     candidates
         .into_iter()
         .map(|c| (levenshtein(word, c), c))
-        .filter(|(d, _)| *d <= limit)
+        .filter(|(d, _)| *d <= limit && *d < length)
         .min_by_key(|(d, _)| *d)
         .map(|(_, c)| c)
 }
@@ -39,8 +41,13 @@ mod tests {
 
     #[test]
     fn finds_single_typo_and_rejects_unrelated_names() {
-        assert_eq!(closest("cranc", ["crank", "coupler", "rocker"]), Some("crank"));
+        assert_eq!(
+            closest("cranc", ["crank", "coupler", "rocker"]),
+            Some("crank")
+        );
         assert_eq!(closest("slider", ["crank", "coupler", "rocker"]), None);
+        assert_eq!(closest("Z", ["A", "B"]), None);
+        assert_eq!(closest("O2", ["O", "A"]), Some("O"));
         assert_eq!(levenshtein("kitten", "sitting"), 3);
     }
 }

@@ -1,0 +1,113 @@
+//! `linkdyn check MODEL`: validate and assemble; print the model's structure.
+
+use super::{Failure, fail, fail_model};
+use crate::formulation::{Dae, DaeOptions};
+use crate::model::{ForceElement, JointKind};
+use clap::Args;
+use std::path::PathBuf;
+
+/// Arguments of `check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// Model file (TOML).
+    model: PathBuf,
+    /// Override a model field: dotted path, array entries by name (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
+}
+
+/// Runs `check`.
+pub fn run(args: &CheckArgs) -> Result<(), Failure> {
+    let model = crate::model::load(&args.model, &args.set).map_err(fail)?;
+    let dae = Dae::new(&model, &DaeOptions::default()).map_err(|e| fail_model(&args.model, e))?;
+    let a = dae.assembly();
+    println!("model {} ({})", model.name, args.model.display());
+    if !model.description.is_empty() {
+        println!("  {}", model.description);
+    }
+    println!("bodies: {}", model.bodies.len());
+    for (i, b) in model.bodies.iter().enumerate() {
+        println!(
+            "  {:<12} m = {} kg, I = {} kg·m², assembled x = {:.6} m, y = {:.6} m, phi = {:.6} rad",
+            b.name,
+            b.mass,
+            b.inertia,
+            a.q[3 * i],
+            a.q[3 * i + 1],
+            a.q[3 * i + 2]
+        );
+    }
+    println!("joints: {}", model.joints.len());
+    for j in &model.joints {
+        let extra = match &j.kind {
+            JointKind::Clearance(c) => format!(
+                " (bearing on {}, journal on {}, c = {} m, R_J = {} m)",
+                model.frame_name(j.a.frame),
+                model.frame_name(j.b.frame),
+                c.clearance,
+                c.journal_radius
+            ),
+            _ => String::new(),
+        };
+        println!(
+            "  {:<12} {:<10} {}.{} – {}.{}{extra}",
+            j.name,
+            j.kind.type_name(),
+            model.frame_name(j.a.frame),
+            j.a.point,
+            model.frame_name(j.b.frame),
+            j.b.point
+        );
+    }
+    println!("drivers: {}", model.drivers.len());
+    for d in &model.drivers {
+        println!(
+            "  {:<12} constant speed {} rad/s ({} rpm) on joint {}, from {} rad",
+            d.name,
+            d.speed,
+            d.speed * 30.0 / std::f64::consts::PI,
+            model.joint(d.joint).name,
+            d.initial_angle
+        );
+    }
+    println!(
+        "forces: {} (+ gravity [{}, {}] m/s²)",
+        model.forces.len(),
+        model.settings.gravity[0],
+        model.settings.gravity[1]
+    );
+    for f in &model.forces {
+        let (name, kind) = match f {
+            ForceElement::SpringDamper { name, .. } => (name, "spring-damper"),
+            ForceElement::Torque { name, .. } => (name, "torque"),
+            ForceElement::PointForce { name, .. } => (name, "force"),
+        };
+        println!("  {name:<12} {kind}");
+    }
+    let set = dae.constraints();
+    let redundant: Vec<String> = dae
+        .redundant_rows()
+        .iter()
+        .map(|&k| set.row_name(&model, k))
+        .collect();
+    println!(
+        "coordinates: {}, constraint rows: {}, rank: {}, degrees of freedom: {}",
+        dae.n_coordinates(),
+        set.n_rows(),
+        set.n_rows() - redundant.len(),
+        dae.n_coordinates() - (set.n_rows() - redundant.len())
+    );
+    if redundant.is_empty() {
+        println!("redundant constraints: none");
+    } else {
+        println!(
+            "redundant constraints: {} (left out of the dynamics; their reactions are not unique)",
+            redundant.join(", ")
+        );
+    }
+    println!(
+        "assembled in {} Newton iterations, max |Phi| = {:.3e}",
+        a.iterations, a.residual
+    );
+    Ok(())
+}

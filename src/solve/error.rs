@@ -1,0 +1,168 @@
+//! [`SolveError`]: why an integration stopped, and when.
+
+use thiserror::Error;
+
+use crate::formulation::FormulationError;
+
+/// Errors raised by the integrators. Every variant met during a run says at which time t (s)
+/// it happened.
+#[derive(Debug, Error)]
+pub enum SolveError {
+    /// A solver option (or an argument of [`integrate`](fn@crate::solve::integrate)) is out of
+    /// range.
+    #[error("invalid solver option `{option}`: {reason}")]
+    InvalidOption {
+        /// Name of the option or argument (`rtol`, `dt_out`, …).
+        option: &'static str,
+        /// What was expected and what was given.
+        reason: String,
+    },
+
+    /// A state vector (initial state or output buffer) has the wrong length.
+    #[error("{what} has {got} components but the formulation has {expected} states")]
+    StateLength {
+        /// Which vector ("initial state", "output buffer").
+        what: &'static str,
+        /// Number of states of the formulation.
+        expected: usize,
+        /// Length given.
+        got: usize,
+    },
+
+    /// The step size fell below the resolution of t (16 machine epsilons of max(|t|, |t_end|)):
+    /// the solution is (nearly) discontinuous there or the problem is too stiff for an explicit
+    /// method.
+    #[error(
+        "step size h = {h:.3e} s at t = {t:.9} s is below the resolution of t (a discontinuity or a stiff contact; loosen rtol/atol or check the model)"
+    )]
+    StepTooSmall {
+        /// Time reached (s).
+        t: f64,
+        /// Step size that was too small (s).
+        h: f64,
+    },
+
+    /// The limit [`SolverOptions::max_steps`](crate::solve::SolverOptions::max_steps) on step
+    /// attempts (accepted and rejected) was reached.
+    #[error(
+        "gave up at t = {t:.9} s after {steps} step attempts (limit max_steps; raise it or loosen rtol/atol)"
+    )]
+    TooManySteps {
+        /// Time reached (s).
+        t: f64,
+        /// Step attempts made.
+        steps: u64,
+    },
+
+    /// A state component became NaN or infinite at a step boundary.
+    #[error("non-finite value (NaN or infinity) in state component {component} at t = {t:.9} s")]
+    NonFinite {
+        /// Time of the step boundary (s).
+        t: f64,
+        /// Index of the first non-finite component of the state vector.
+        component: usize,
+    },
+
+    /// The formulation could not evaluate its right-hand side.
+    #[error("the equations of motion could not be evaluated at t = {t:.9} s")]
+    Formulation {
+        /// Time of the failed evaluation (s).
+        t: f64,
+        /// Why the formulation failed.
+        #[source]
+        source: FormulationError,
+    },
+
+    /// The output sink failed (e.g. a write error); the run was aborted.
+    #[error("output failed at t = {t:.9} s: {reason}")]
+    Sink {
+        /// Time of the sample or event being written (s).
+        t: f64,
+        /// What went wrong.
+        reason: String,
+    },
+
+    /// The root of an event function could not be bracketed to the event tolerance.
+    #[error(
+        "event {index} near t = {t:.9} s could not be located to the event tolerance in {iterations} iterations"
+    )]
+    EventNotConverged {
+        /// Best estimate of the event time (s).
+        t: f64,
+        /// Index of the event function.
+        index: usize,
+        /// Iterations spent.
+        iterations: usize,
+    },
+
+    /// [`Formulation::max_step`](crate::formulation::Formulation::max_step) returned zero, a
+    /// negative number or NaN.
+    #[error(
+        "the formulation's largest allowed step at t = {t:.9} s is {value} s (expected a positive number or infinity)"
+    )]
+    InvalidMaxStep {
+        /// Time (s).
+        t: f64,
+        /// Value returned (s).
+        value: f64,
+    },
+
+    /// [`Stepper::interpolate`](crate::solve::Stepper::interpolate) was asked for a time outside
+    /// the last step.
+    #[error(
+        "cannot interpolate at t = {t:.9} s: the dense output covers [{t_start:.9}, {t_end:.9}] s only"
+    )]
+    OutsideStep {
+        /// Time asked for (s).
+        t: f64,
+        /// Start of the last step (s).
+        t_start: f64,
+        /// End of the interpolable part of the last step (s).
+        t_end: f64,
+    },
+}
+
+impl SolveError {
+    /// Shorthand for [`SolveError::InvalidOption`].
+    pub(crate) fn invalid(option: &'static str, reason: impl Into<String>) -> Self {
+        Self::InvalidOption {
+            option,
+            reason: reason.into(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::error::Error as _;
+
+    #[test]
+    fn formulation_error_is_the_source() {
+        let err = SolveError::Formulation {
+            t: 1.5,
+            source: FormulationError::Unsupported {
+                formulation: "test".into(),
+                reason: "nothing".into(),
+            },
+        };
+        assert!(err.to_string().contains("t = 1.500000000 s"), "{err}");
+        let source = err.source().map(ToString::to_string);
+        assert_eq!(source.as_deref(), Some("test formulation: nothing"));
+    }
+
+    #[test]
+    fn messages_name_time_and_reason() {
+        let err = SolveError::StepTooSmall { t: 0.25, h: 1e-18 };
+        let msg = err.to_string();
+        assert!(
+            msg.contains("1.000e-18") && msg.contains("0.250000000"),
+            "{msg}"
+        );
+        let err = SolveError::NonFinite {
+            t: 2.0,
+            component: 3,
+        };
+        assert!(err.to_string().contains("component 3"), "{err}");
+    }
+}

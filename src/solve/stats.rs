@@ -1,0 +1,84 @@
+//! [`SolverStats`]: what a run cost. Written into result files and snapshotted in tests, so a
+//! change that doubles the work shows up in review.
+
+use serde::Serialize;
+
+/// Counters of one integration run.
+///
+/// The RHS calls add up exactly (checked in `tests/adaptive_tolerance.rs`):
+///
+/// * DOPRI5: `rhs_evals = 1 + [1 if hinit] + 6·(steps + rejected) + restarts`;
+/// * DOP853: `rhs_evals = 1 + [1 if hinit] + 12·steps + 11·rejected + dense_evals + restarts`,
+///
+/// where the leading 1 is f(t0, y0) and `hinit` runs when no `h0` or fixed step is given.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct SolverStats {
+    /// Accepted steps, including steps cut short at an event that restarted the integrator.
+    pub steps: u64,
+    /// Rejected step attempts (local error estimate above tolerance, or a non-finite estimate).
+    pub rejected: u64,
+    /// Calls of [`Formulation::rhs`](crate::formulation::Formulation::rhs), all included.
+    pub rhs_evals: u64,
+    /// Of `rhs_evals`, the extra stages of DOP853's dense output (3 per interpolated step;
+    /// always 0 for DOPRI5).
+    pub dense_evals: u64,
+    /// Events located and handed to
+    /// [`Formulation::apply_event`](crate::formulation::Formulation::apply_event).
+    pub events: u64,
+    /// Restarts of the integrator after an event answered
+    /// [`EventResponse::Restart`](crate::formulation::EventResponse::Restart).
+    pub restarts: u64,
+    /// Smallest accepted step size (s), including the shortened last step; 0 if no step.
+    pub h_min_used: f64,
+    /// Largest accepted step size (s); 0 if no step.
+    pub h_max_used: f64,
+}
+
+impl SolverStats {
+    /// Records an accepted step of size h (s).
+    pub(crate) fn record_step(&mut self, h: f64) {
+        if self.steps == 0 {
+            self.h_min_used = h;
+            self.h_max_used = h;
+        } else {
+            self.h_min_used = self.h_min_used.min(h);
+            self.h_max_used = self.h_max_used.max(h);
+        }
+        self.steps += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn step_sizes_are_tracked() {
+        let mut s = SolverStats::default();
+        assert_eq!((s.h_min_used, s.h_max_used), (0.0, 0.0));
+        for h in [0.5, 0.1, 2.0] {
+            s.record_step(h);
+        }
+        assert_eq!((s.steps, s.h_min_used, s.h_max_used), (3, 0.1, 2.0));
+    }
+
+    #[test]
+    fn serialises_every_field() {
+        let json = serde_json::to_string(&SolverStats::default()).unwrap_or_default();
+        for field in [
+            "steps",
+            "rejected",
+            "rhs_evals",
+            "dense_evals",
+            "events",
+            "restarts",
+            "h_min_used",
+            "h_max_used",
+        ] {
+            assert!(
+                json.contains(&format!("\"{field}\"")),
+                "{field} missing in {json}"
+            );
+        }
+    }
+}

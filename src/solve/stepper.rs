@@ -1,0 +1,687 @@
+//! [`Stepper`]: the adaptive Runge–Kutta integrator, one accepted step (or one event) per call.
+//!
+//! Each call of [`Stepper::step`] says why it stopped ([`Stop`]). After it returns, the
+//! trajectory is final up to [`Stepper::t_reached`] and the dense output of the last step can be
+//! evaluated anywhere in [`Stepper::dense_range`] with [`Stepper::interpolate`] — which is how
+//! [`integrate`](fn@crate::solve::integrate) samples a fixed output grid and how later analysis
+//! (Poincaré sections) reads states between steps.
+//!
+//! **Step size.** At every step start h is clamped to `h_max`, to
+//! [`Formulation::max_step`] at (t, y) and to the distance to `t_end`; a step that would leave
+//! less than 1 % of itself before `t_end` is stretched to end exactly on `t_end` (as in Hairer's
+//! codes), unless that breaks one of the other limits. A step below 16 machine epsilons of
+//! max(|t|, |t_end|) is an error ([`SolveError::StepTooSmall`], or [`SolveError::NonFinite`]
+//! if the rejections came from NaN/∞). The step controller is in `control.rs`.
+//!
+//! **Allocation.** All stage, dense-output and event vectors are allocated by
+//! [`Stepper::new`]; stepping, interpolating and locating events allocate nothing.
+
+use super::control::{Controller, Decision, InitialStep, initial_step};
+use super::error::SolveError;
+use super::events::{EventRecord, EventState};
+use super::options::{Method, SolverOptions};
+use super::rk::{eval_rhs, first_non_finite};
+use super::stats::SolverStats;
+use super::{dop853, dopri5};
+use crate::formulation::Formulation;
+
+/// Why [`Stepper::step`] returned.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Stop {
+    /// A step was accepted and holds no (further) event: the trajectory is final up to
+    /// [`Stepper::t`].
+    Step,
+    /// An event was located at time `t` for event function `index` and handed to
+    /// [`Formulation::apply_event`]; the trajectory is final up to `t`. Details in
+    /// [`Stepper::last_event`] and [`Stepper::event_states`]. If the formulation asked for a
+    /// restart, [`Stepper::t`] and [`Stepper::y`] are now the event time and the state after the
+    /// event; otherwise they remain the end of the step, whose rest is scanned for more events
+    /// on the next call.
+    Event {
+        /// Event time (s), to the event tolerance.
+        t: f64,
+        /// Index of the event function g_i that changed sign.
+        index: usize,
+    },
+    /// `t_end` is reached: the trajectory is final up to `t_end`. Further calls return
+    /// `EndReached` again and do nothing.
+    EndReached,
+}
+
+/// Where the stepper is between calls.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Phase {
+    /// Next call takes a new step.
+    Ready,
+    /// An accepted step may hold more events after `ev.t_lo`.
+    Scanning,
+    /// `t_end` reached.
+    Done,
+}
+
+/// Adaptive explicit Runge–Kutta integrator of a [`Formulation`] from `t0` to `t_end`.
+///
+/// ```
+/// use linkdyn::formulation::{Formulation, FormulationError};
+/// use linkdyn::solve::{SolverOptions, Stepper, Stop};
+///
+/// struct Decay;
+/// impl Formulation for Decay {
+///     fn n_states(&self) -> usize { 1 }
+///     fn initial_state(&self) -> Vec<f64> { vec![1.0] }
+///     fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
+///         dy[0] = -y[0];
+///         Ok(())
+///     }
+/// }
+///
+/// let mut f = Decay;
+/// let mut stepper = Stepper::new(&mut f, 0.0, &[1.0], 2.0, &SolverOptions::default())?;
+/// let mut mid = [0.0];
+/// while stepper.step()? != Stop::EndReached {
+///     let (a, b) = stepper.dense_range();
+///     stepper.interpolate(0.5 * (a + b), &mut mid)?;
+///     assert!((mid[0] - (-0.5 * (a + b)).exp()).abs() < 1e-8);
+/// }
+/// assert!((stepper.y()[0] - (-2f64).exp()).abs() < 1e-9);
+/// # Ok::<(), linkdyn::solve::SolveError>(())
+/// ```
+pub struct Stepper<'a, F: Formulation> {
+    pub(super) f: &'a mut F,
+    pub(super) opts: SolverOptions,
+    pub(super) n: usize,
+    pub(super) t_end: f64,
+    /// Current time and state (start of the next step) and f(t, y) (the FSAL stage).
+    pub(super) t: f64,
+    pub(super) y: Vec<f64>,
+    pub(super) dy: Vec<f64>,
+    /// Last accepted step: from (t_old, y_old) with size h_step to y_new.
+    pub(super) t_old: f64,
+    pub(super) h_step: f64,
+    pub(super) y_old: Vec<f64>,
+    pub(super) y_new: Vec<f64>,
+    /// The dense output is valid on [t_old, dense_end] (dense_end < t_old + h_step after a
+    /// restart cut the step short).
+    pub(super) dense_end: f64,
+    pub(super) dense_ready: bool,
+    /// Whether `y` is still the end of the last step (not replaced by an event restart).
+    pub(super) y_is_step_end: bool,
+    pub(super) k: Vec<Vec<f64>>,
+    pub(super) dense: Vec<Vec<f64>>,
+    pub(super) y_stage: Vec<f64>,
+    pub(super) scratch: Vec<f64>,
+    pub(super) h_next: f64,
+    pub(super) controller: Controller,
+    pub(super) t_reached: f64,
+    pub(super) phase: Phase,
+    pub(super) ev: EventState,
+    pub(super) stats: SolverStats,
+}
+
+impl<'a, F: Formulation> Stepper<'a, F> {
+    /// Prepares integration of `f` from (t0, y0) to t_end ≥ t0 (forward only): validates the
+    /// options, evaluates f(t0, y0), chooses the first step (`h0`, the fixed step, or Hairer's
+    /// `hinit`, one more RHS call) and evaluates the event functions at t0.
+    pub fn new(
+        f: &'a mut F,
+        t0: f64,
+        y0: &[f64],
+        t_end: f64,
+        opts: &SolverOptions,
+    ) -> Result<Self, SolveError> {
+        opts.validate()?;
+        if !t0.is_finite() {
+            return Err(SolveError::invalid(
+                "t0",
+                format!("expected a finite time, got {t0}"),
+            ));
+        }
+        if !(t_end.is_finite() && t_end >= t0) {
+            return Err(SolveError::invalid(
+                "t_end",
+                format!(
+                    "expected a finite time ≥ t0 = {t0} s (only forward integration is supported), got {t_end}"
+                ),
+            ));
+        }
+        let n = f.n_states();
+        if y0.len() != n {
+            return Err(SolveError::StateLength {
+                what: "initial state",
+                expected: n,
+                got: y0.len(),
+            });
+        }
+        if let Some(component) = first_non_finite(y0) {
+            return Err(SolveError::NonFinite { t: t0, component });
+        }
+        let n_stages = match opts.method {
+            Method::Dopri5 => dopri5::STAGES,
+            Method::Dop853 => dop853::STAGES,
+        };
+        let n_dense = match opts.method {
+            Method::Dopri5 => dopri5::DENSE_VECTORS,
+            Method::Dop853 => dop853::DENSE_VECTORS,
+        };
+        let ne = f.n_events();
+        let mut stepper = Stepper {
+            opts: opts.clone(),
+            n,
+            t_end,
+            t: t0,
+            y: y0.to_vec(),
+            dy: vec![0.0; n],
+            t_old: t0,
+            h_step: 0.0,
+            y_old: y0.to_vec(),
+            y_new: y0.to_vec(),
+            dense_end: t0,
+            dense_ready: true,
+            y_is_step_end: true,
+            k: vec![vec![0.0; n]; n_stages],
+            dense: vec![vec![0.0; n]; n_dense],
+            y_stage: vec![0.0; n],
+            scratch: vec![0.0; n],
+            h_next: 0.0,
+            controller: Controller::new(opts.method, opts.beta_or_default()),
+            t_reached: t0,
+            phase: Phase::Ready,
+            ev: EventState::new(n, ne, t0),
+            stats: SolverStats::default(),
+            f,
+        };
+        eval_rhs(
+            &*stepper.f,
+            t0,
+            &stepper.y,
+            &mut stepper.dy,
+            &mut stepper.stats.rhs_evals,
+        )?;
+        stepper.h_next = match (opts.fixed_step, opts.h0) {
+            (Some(h), _) | (None, Some(h)) => h,
+            (None, None) if t_end > t0 => stepper.automatic_first_step()?,
+            (None, None) => 0.0,
+        };
+        stepper.init_events();
+        Ok(stepper)
+    }
+
+    /// Hairer's `hinit` at (t, y).
+    fn automatic_first_step(&mut self) -> Result<f64, SolveError> {
+        let h_cap = self.step_cap()?.min(self.t_end - self.t);
+        let q = match self.opts.method {
+            Method::Dopri5 => 5.0,
+            Method::Dop853 => 8.0,
+        };
+        let p = InitialStep {
+            t0: self.t,
+            y0: &self.y,
+            f0: &self.dy,
+            h_cap,
+            tol: (self.opts.rtol, self.opts.atol),
+            q,
+        };
+        let Some(f1) = self.k.get_mut(1) else {
+            debug_assert!(false, "every method has at least two stages");
+            return Ok(h_cap.min(1e-6));
+        };
+        initial_step(
+            &*self.f,
+            &p,
+            &mut self.y_stage,
+            f1,
+            &mut self.stats.rhs_evals,
+        )
+    }
+
+    /// min(h_max, max_step(t, y)), checking the formulation's answer.
+    fn step_cap(&self) -> Result<f64, SolveError> {
+        let value = self.f.max_step(self.t, &self.y);
+        if value.is_nan() || value <= 0.0 {
+            return Err(SolveError::InvalidMaxStep { t: self.t, value });
+        }
+        Ok(value.min(self.opts.h_max))
+    }
+
+    /// Smallest step size that still moves t: 16 machine epsilons of max(|t|, |t_end|).
+    fn h_floor(&self) -> f64 {
+        16.0 * f64::EPSILON * self.t.abs().max(self.t_end.abs())
+    }
+
+    /// Advances the integration: takes a step, or locates and handles the next event in the
+    /// last step. See [`Stop`] for what each answer means.
+    pub fn step(&mut self) -> Result<Stop, SolveError> {
+        loop {
+            match self.phase {
+                Phase::Done => return Ok(Stop::EndReached),
+                Phase::Scanning => {
+                    if let Some(stop) = self.scan_events()? {
+                        return Ok(stop);
+                    }
+                    if self.ev.pending_restart {
+                        self.restart()?;
+                        self.phase = Phase::Ready;
+                        continue;
+                    }
+                    return Ok(self.finish_step());
+                }
+                Phase::Ready => {
+                    if self.t >= self.t_end {
+                        self.phase = Phase::Done;
+                        self.t_reached = self.t;
+                        return Ok(Stop::EndReached);
+                    }
+                    if self.advance()? {
+                        self.begin_scan();
+                        self.phase = Phase::Scanning;
+                    } else {
+                        return Ok(self.finish_step());
+                    }
+                }
+            }
+        }
+    }
+
+    /// Closes the current step once no event is left in it.
+    fn finish_step(&mut self) -> Stop {
+        self.finish_events();
+        self.t_reached = self.t;
+        if self.t >= self.t_end {
+            self.phase = Phase::Done;
+            Stop::EndReached
+        } else {
+            self.phase = Phase::Ready;
+            Stop::Step
+        }
+    }
+
+    /// Takes one accepted step (retrying rejected attempts). Returns `false` if t was already
+    /// within rounding of t_end and was set to t_end without a step.
+    fn advance(&mut self) -> Result<bool, SolveError> {
+        let t = self.t;
+        let floor = self.h_floor();
+        let remaining = self.t_end - t;
+        if remaining <= floor {
+            // A restart left t a few ulps short of t_end: the state there is the end state.
+            self.t_old = t;
+            self.y_old.copy_from_slice(&self.y);
+            self.h_step = 0.0;
+            self.t = self.t_end;
+            self.dense_end = self.t_end;
+            self.dense_ready = true;
+            self.y_is_step_end = true;
+            self.ev.g_hi.copy_from_slice(&self.ev.g_lo);
+            return Ok(false);
+        }
+        let cap_other = self.step_cap()?;
+        let cap = cap_other.min(remaining);
+        let mut h = self.opts.fixed_step.unwrap_or(self.h_next).min(cap);
+        let mut non_finite: Option<usize> = None;
+        let (rtol, atol) = (self.opts.rtol, self.opts.atol);
+        loop {
+            let attempts = self.stats.steps + self.stats.rejected;
+            if attempts >= self.opts.max_steps {
+                return Err(SolveError::TooManySteps { t, steps: attempts });
+            }
+            let last = remaining <= 1.01 * h && remaining <= cap_other;
+            if last {
+                h = remaining;
+            }
+            if !(h >= floor && h > 0.0) {
+                return Err(match non_finite {
+                    Some(component) => SolveError::NonFinite { t, component },
+                    None => SolveError::StepTooSmall { t, h },
+                });
+            }
+            let t_new = if last { self.t_end } else { t + h };
+            if let Some(k0) = self.k.first_mut() {
+                k0.copy_from_slice(&self.dy);
+            }
+            let err = match self.opts.method {
+                Method::Dopri5 => {
+                    let buf = dopri5::StepBuffers {
+                        k: &mut self.k,
+                        y_new: &mut self.y_new,
+                        y_stage: &mut self.y_stage,
+                    };
+                    dopri5::step(
+                        &*self.f,
+                        t,
+                        h,
+                        t_new,
+                        &self.y,
+                        buf,
+                        &mut self.stats.rhs_evals,
+                    )?;
+                    if self.opts.fixed_step.is_some() {
+                        0.0
+                    } else {
+                        let tol = (rtol, atol);
+                        dopri5::error_norm(h, &self.y, &self.y_new, &self.k, tol, &mut self.scratch)
+                    }
+                }
+                Method::Dop853 => {
+                    let buf = dop853::StepBuffers {
+                        k: &mut self.k,
+                        y_new: &mut self.y_new,
+                        y_stage: &mut self.y_stage,
+                    };
+                    dop853::step(&*self.f, t, h, &self.y, buf, &mut self.stats.rhs_evals)?;
+                    if self.opts.fixed_step.is_some() {
+                        0.0
+                    } else {
+                        let tol = (rtol, atol);
+                        let scratch = (&mut self.scratch[..], &mut self.y_stage[..]);
+                        dop853::error_norm(h, &self.y, &self.y_new, &self.k, tol, scratch)
+                    }
+                }
+            };
+            let h_next = if self.opts.fixed_step.is_some() {
+                h
+            } else {
+                match self.controller.decide(err, h) {
+                    Decision::Accept { h_next } => h_next,
+                    Decision::Reject { h_next } => {
+                        self.stats.rejected += 1;
+                        if !err.is_finite() {
+                            non_finite = first_non_finite(&self.y_new).or(non_finite);
+                        }
+                        h = h_next.min(cap);
+                        continue;
+                    }
+                }
+            };
+            if let Some(component) = first_non_finite(&self.y_new) {
+                return Err(SolveError::NonFinite {
+                    t: t_new,
+                    component,
+                });
+            }
+            if self.opts.method == Method::Dop853 {
+                dop853::fsal(
+                    &*self.f,
+                    t_new,
+                    &self.y_new,
+                    &mut self.k,
+                    &mut self.stats.rhs_evals,
+                )?;
+            }
+            let fsal = match self.opts.method {
+                Method::Dopri5 => dopri5::FSAL,
+                Method::Dop853 => dop853::FSAL,
+            };
+            std::mem::swap(&mut self.y_old, &mut self.y);
+            self.y.copy_from_slice(&self.y_new);
+            if let Some(k_last) = self.k.get(fsal) {
+                self.dy.copy_from_slice(k_last);
+            }
+            self.t_old = t;
+            self.t = t_new;
+            self.h_step = h;
+            self.dense_end = t_new;
+            self.dense_ready = false;
+            self.y_is_step_end = true;
+            self.stats.record_step(h);
+            self.h_next = h_next;
+            return Ok(true);
+        }
+    }
+
+    /// Builds the dense output of the last step if not done yet (DOP853: 3 RHS calls).
+    pub(super) fn ensure_dense(&mut self) -> Result<(), SolveError> {
+        if self.dense_ready || self.h_step == 0.0 {
+            return Ok(());
+        }
+        match self.opts.method {
+            Method::Dopri5 => {
+                dopri5::prepare_dense(
+                    self.h_step,
+                    &self.y_old,
+                    &self.y_new,
+                    &self.k,
+                    &mut self.dense,
+                );
+            }
+            Method::Dop853 => {
+                dop853::extra_stages(
+                    &*self.f,
+                    self.t_old,
+                    self.h_step,
+                    &self.y_old,
+                    &mut self.k,
+                    &mut self.y_stage,
+                    &mut self.stats.rhs_evals,
+                )?;
+                self.stats.dense_evals += dop853::DENSE_EXTRA_EVALS;
+                dop853::dense_vectors(
+                    self.h_step,
+                    &self.y_old,
+                    &self.y_new,
+                    &self.k,
+                    &mut self.dense,
+                );
+            }
+        }
+        self.dense_ready = true;
+        Ok(())
+    }
+
+    /// Writes the dense-output state at time t, which must lie in [`Stepper::dense_range`]
+    /// (within a few ulps), into `out` (length n). DOP853 spends 3 RHS calls the first time a
+    /// step is interpolated. Before the first step, and at the exact ends of a step, the stored
+    /// states are returned as they are.
+    pub fn interpolate(&mut self, t: f64, out: &mut [f64]) -> Result<(), SolveError> {
+        if out.len() != self.n {
+            return Err(SolveError::StateLength {
+                what: "output buffer",
+                expected: self.n,
+                got: out.len(),
+            });
+        }
+        let slack = 8.0 * f64::EPSILON * self.t_old.abs().max(self.dense_end.abs());
+        if !(t >= self.t_old - slack && t <= self.dense_end + slack) {
+            return Err(SolveError::OutsideStep {
+                t,
+                t_start: self.t_old,
+                t_end: self.dense_end,
+            });
+        }
+        if self.h_step == 0.0 || t == self.t_old {
+            out.copy_from_slice(&self.y_old);
+            return Ok(());
+        }
+        if self.y_is_step_end && t == self.t {
+            out.copy_from_slice(&self.y);
+            return Ok(());
+        }
+        self.ensure_dense()?;
+        let theta = (t - self.t_old) / self.h_step;
+        eval_dense(self.opts.method, theta, &self.y_old, &self.dense, out);
+        Ok(())
+    }
+
+    /// Number of states n.
+    #[must_use]
+    pub fn n_states(&self) -> usize {
+        self.n
+    }
+
+    /// Current time (s): start of the next step (see [`Stop`] for its value after an event).
+    #[must_use]
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+
+    /// State at [`Stepper::t`].
+    #[must_use]
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// End time of the run (s).
+    #[must_use]
+    pub fn t_end(&self) -> f64 {
+        self.t_end
+    }
+
+    /// Time (s) up to which the trajectory is final: the step end after [`Stop::Step`], the
+    /// event time after [`Stop::Event`]. Samples at or before it will not change.
+    #[must_use]
+    pub fn t_reached(&self) -> f64 {
+        self.t_reached
+    }
+
+    /// Interval [t_start, t_end] (s) on which [`Stepper::interpolate`] works: the last step,
+    /// cut at the event time if an event restarted the integrator.
+    #[must_use]
+    pub fn dense_range(&self) -> (f64, f64) {
+        (self.t_old, self.dense_end)
+    }
+
+    /// Step size the controller proposes for the next step (s), before the clamps.
+    #[must_use]
+    pub fn h_next(&self) -> f64 {
+        self.opts.fixed_step.unwrap_or(self.h_next)
+    }
+
+    /// The most recent event, if any.
+    #[must_use]
+    pub fn last_event(&self) -> Option<&EventRecord> {
+        self.ev.last.as_ref()
+    }
+
+    /// States at the most recent event: (before, after) [`Formulation::apply_event`]. Equal
+    /// unless the formulation asked for a restart (with `Continue`, changes are discarded).
+    #[must_use]
+    pub fn event_states(&self) -> (&[f64], &[f64]) {
+        (&self.ev.y_before, &self.ev.y_after)
+    }
+
+    /// Cost counters so far.
+    #[must_use]
+    pub fn stats(&self) -> &SolverStats {
+        &self.stats
+    }
+
+    /// The formulation being integrated.
+    #[must_use]
+    pub fn formulation(&self) -> &F {
+        self.f
+    }
+}
+
+/// Evaluates the dense output of `method` at θ.
+pub(super) fn eval_dense(
+    method: Method,
+    theta: f64,
+    y_old: &[f64],
+    dense: &[Vec<f64>],
+    out: &mut [f64],
+) {
+    match method {
+        Method::Dopri5 => dopri5::eval_dense(theta, y_old, dense, out),
+        Method::Dop853 => dop853::eval_dense(theta, y_old, dense, out),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formulation::FormulationError;
+
+    /// y' = cos t, y(0) = 0: y = sin t.
+    struct Sine;
+    impl Formulation for Sine {
+        fn n_states(&self) -> usize {
+            1
+        }
+        fn initial_state(&self) -> Vec<f64> {
+            vec![0.0]
+        }
+        fn rhs(&self, t: f64, _y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
+            dy[0] = t.cos();
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn reaches_t_end_exactly_and_stays_there() -> Result<(), SolveError> {
+        for method in Method::ALL {
+            let opts = SolverOptions::default().method(method);
+            let mut f = Sine;
+            let mut s = Stepper::new(&mut f, 0.0, &[0.0], 3.0, &opts)?;
+            let mut guard = 0;
+            while s.step()? != Stop::EndReached {
+                guard += 1;
+                assert!(guard < 10_000, "{method}: runaway");
+            }
+            assert_eq!(s.t(), 3.0);
+            assert_eq!(s.step()?, Stop::EndReached);
+            // Default rtol 1e-8: a global error of a few 1e-9 on a quantity of size ~1.
+            assert!(
+                (s.y()[0] - 3f64.sin()).abs() < 1e-7,
+                "{method}: {}",
+                s.y()[0]
+            );
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn interpolation_outside_the_step_is_an_error() -> Result<(), SolveError> {
+        let mut f = Sine;
+        let mut s = Stepper::new(&mut f, 0.0, &[0.0], 1.0, &SolverOptions::default())?;
+        let mut out = [0.0];
+        s.interpolate(0.0, &mut out)?;
+        assert_eq!(out, [0.0]);
+        s.step()?;
+        let (a, b) = s.dense_range();
+        assert!(matches!(
+            s.interpolate(b + 1.0, &mut out),
+            Err(SolveError::OutsideStep { .. })
+        ));
+        assert!(matches!(
+            s.interpolate(a, &mut [0.0; 2]),
+            Err(SolveError::StateLength { .. })
+        ));
+        Ok(())
+    }
+
+    #[test]
+    fn fixed_step_takes_equal_steps() -> Result<(), SolveError> {
+        let mut f = Sine;
+        let opts = SolverOptions::with_fixed_step(0.1).method(Method::Dopri5);
+        let mut s = Stepper::new(&mut f, 0.0, &[0.0], 1.0, &opts)?;
+        while s.step()? != Stop::EndReached {}
+        assert_eq!(s.stats().steps, 10);
+        assert_eq!(s.stats().rejected, 0);
+        // f(t0) only (no hinit), then 6 per step.
+        assert_eq!(s.stats().rhs_evals, 1 + 6 * 10);
+        Ok(())
+    }
+
+    #[test]
+    fn rejects_bad_arguments() {
+        let mut f = Sine;
+        let opts = SolverOptions::default();
+        assert!(matches!(
+            Stepper::new(&mut f, 0.0, &[0.0, 1.0], 1.0, &opts),
+            Err(SolveError::StateLength {
+                expected: 1,
+                got: 2,
+                ..
+            })
+        ));
+        assert!(matches!(
+            Stepper::new(&mut f, 1.0, &[0.0], 0.0, &opts),
+            Err(SolveError::InvalidOption {
+                option: "t_end",
+                ..
+            })
+        ));
+        assert!(matches!(
+            Stepper::new(&mut f, 0.0, &[f64::NAN], 1.0, &opts),
+            Err(SolveError::NonFinite { component: 0, .. })
+        ));
+    }
+}

@@ -1,0 +1,91 @@
+//! Reference problems and a recording sink shared by the integration tests.
+
+use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::solve::{EventRecord, Sink, SolveError};
+
+/// Harmonic oscillator x'' = −ω² x as (x, v), x(0) = 1, v(0) = 0: x = cos ωt, v = −ω sin ωt.
+pub struct Oscillator {
+    /// Angular frequency ω (rad/s).
+    pub omega: f64,
+}
+
+impl Oscillator {
+    /// Exact state at t.
+    pub fn exact(&self, t: f64) -> [f64; 2] {
+        let w = self.omega;
+        [(w * t).cos(), -w * (w * t).sin()]
+    }
+}
+
+impl Formulation for Oscillator {
+    fn n_states(&self) -> usize {
+        2
+    }
+    fn initial_state(&self) -> Vec<f64> {
+        vec![1.0, 0.0]
+    }
+    fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
+        dy[0] = y[1];
+        dy[1] = -self.omega * self.omega * y[0];
+        Ok(())
+    }
+}
+
+/// Non-autonomous, nonlinear in t: y' = y cos t, y(0) = 1, exact y = exp(sin t).
+pub struct ExpSin;
+
+impl ExpSin {
+    /// Exact solution at t.
+    pub fn exact(t: f64) -> f64 {
+        t.sin().exp()
+    }
+}
+
+impl Formulation for ExpSin {
+    fn n_states(&self) -> usize {
+        1
+    }
+    fn initial_state(&self) -> Vec<f64> {
+        vec![1.0]
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
+        dy[0] = y[0] * t.cos();
+        Ok(())
+    }
+}
+
+/// Keeps everything it is sent.
+#[derive(Default)]
+pub struct OdeRecorder {
+    pub samples: Vec<(f64, Vec<f64>)>,
+    pub events: Vec<(EventRecord, Vec<f64>, Vec<f64>)>,
+}
+
+impl<F> Sink<F> for OdeRecorder {
+    fn sample(&mut self, _f: &F, t: f64, y: &[f64]) -> Result<(), SolveError> {
+        self.samples.push((t, y.to_vec()));
+        Ok(())
+    }
+    fn event(
+        &mut self,
+        _f: &F,
+        ev: &EventRecord,
+        before: &[f64],
+        after: &[f64],
+    ) -> Result<(), SolveError> {
+        self.events.push((*ev, before.to_vec(), after.to_vec()));
+        Ok(())
+    }
+}
+
+/// Least-squares slope of log(err) against log(h): the observed order.
+pub fn observed_order(h: &[f64], err: &[f64]) -> f64 {
+    let x: Vec<f64> = h.iter().map(|v| v.ln()).collect();
+    let y: Vec<f64> = err.iter().map(|v| v.ln()).collect();
+    let n = x.len() as f64;
+    let mx = x.iter().sum::<f64>() / n;
+    let my = y.iter().sum::<f64>() / n;
+    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
+    sxy / sxx
+}

@@ -1,0 +1,161 @@
+//! The ideal four-bar against closed-form loop-closure kinematics, the reference check values,
+//! and the driver torque against the power balance M2 ω = d(T + U)/dt.
+
+mod common;
+use common::*;
+use linkdyn::solve::Method;
+use std::f64::consts::PI;
+
+const L1: f64 = 0.8;
+const L2: f64 = 0.25;
+const L3: f64 = 0.75;
+const L4: f64 = 0.45;
+
+/// Closed-form (θ3, θ4, θ̇3, θ̇4, θ̈3, θ̈4) at crank angle θ2 and constant speed ω, open branch
+/// (B above the line A–O4).
+fn closed_form(theta2: f64, omega: f64) -> [f64; 6] {
+    let a = [L2 * theta2.cos(), L2 * theta2.sin()];
+    let o4 = [L1, 0.0];
+    let d = [o4[0] - a[0], o4[1] - a[1]];
+    let dist = d[0].hypot(d[1]);
+    // B is where the circles (A, L3) and (O4, L4) meet; the open branch is to the left of A→O4.
+    let along = (L3 * L3 - L4 * L4 + dist * dist) / (2.0 * dist);
+    let h = (L3 * L3 - along * along).sqrt();
+    let u = [d[0] / dist, d[1] / dist];
+    let b = [
+        a[0] + along * u[0] - h * u[1],
+        a[1] + along * u[1] + h * u[0],
+    ];
+    let t3 = (b[1] - a[1]).atan2(b[0] - a[0]);
+    let t4 = (b[1] - o4[1]).atan2(b[0] - o4[0]);
+    // Velocity loop: L3 θ̇3 e3⊥ − L4 θ̇4 e4⊥ = −L2 ω e2⊥, with e⊥ = (−sin, cos).
+    let solve = |rx: f64, ry: f64| {
+        let (a11, a12, a21, a22) = (-L3 * t3.sin(), L4 * t4.sin(), L3 * t3.cos(), -L4 * t4.cos());
+        let det = a11 * a22 - a12 * a21;
+        ((rx * a22 - a12 * ry) / det, (a11 * ry - a21 * rx) / det)
+    };
+    let (w3, w4) = solve(L2 * omega * theta2.sin(), -L2 * omega * theta2.cos());
+    // Acceleration loop: the same matrix; right side from the centripetal terms.
+    let rx = L2 * omega * omega * theta2.cos() + L3 * w3 * w3 * t3.cos() - L4 * w4 * w4 * t4.cos();
+    let ry = L2 * omega * omega * theta2.sin() + L3 * w3 * w3 * t3.sin() - L4 * w4 * w4 * t4.sin();
+    let (a3, a4) = solve(rx, ry);
+    [t3, t4, w3, w4, a3, a4]
+}
+
+fn unwrap_near(angle: f64, reference: f64) -> f64 {
+    angle + 2.0 * PI * ((reference - angle) / (2.0 * PI)).round()
+}
+
+#[test]
+fn closed_form_check_values_of_the_reference() {
+    let omega = 250.0 * PI / 30.0;
+    let [t3, t4, w3, w4, ..] = closed_form(0.0, omega);
+    assert!(
+        (t3.to_degrees() - 36.5795).abs() < 5e-5,
+        "theta3 {}°",
+        t3.to_degrees()
+    );
+    assert!(
+        (t4.to_degrees() - 83.3294).abs() < 5e-5,
+        "theta4 {}°",
+        t4.to_degrees()
+    );
+    assert!(
+        (w3 + 11.899972).abs() < 1e-6 && (w4 + 11.899972).abs() < 1e-6,
+        "rates {w3} {w4}"
+    );
+}
+
+#[test]
+fn dae_matches_loop_closure_over_two_turns() {
+    let model = load("models/fourbar_ideal.toml", &[]);
+    let omega = 250.0 * PI / 30.0;
+    let t_end = 2.0 * 2.0 * PI / omega;
+    let (rec, _) = run_dae(&model, t_end, 1e-3, Method::Dop853, 1e-12, 1e-14);
+    let cols: Vec<Vec<f64>> = [
+        "coupler.phi",
+        "rocker.phi",
+        "coupler.omega",
+        "rocker.omega",
+        "coupler.alpha",
+        "rocker.alpha",
+    ]
+    .iter()
+    .map(|c| col(&rec, c))
+    .collect();
+    // Check values at t = 0 (the assembly) to the reference's printed digits.
+    assert!(
+        (cols[0][0].to_degrees() - 36.5795).abs() < 5e-5,
+        "theta3(0) = {}°",
+        cols[0][0].to_degrees()
+    );
+    assert!(
+        (cols[1][0].to_degrees() - 83.3294).abs() < 5e-5,
+        "theta4(0) = {}°",
+        cols[1][0].to_degrees()
+    );
+    assert!(
+        (cols[2][0] + 11.899972).abs() < 1e-6,
+        "theta3'(0) = {}",
+        cols[2][0]
+    );
+    assert!(
+        (cols[3][0] + 11.899972).abs() < 1e-6,
+        "theta4'(0) = {}",
+        cols[3][0]
+    );
+    let names = [
+        "theta3", "theta4", "theta3'", "theta4'", "theta3''", "theta4''",
+    ];
+    // Scales turn the 1e-9 into a relative bound for rates (~12 rad/s) and accelerations
+    // (~10³ rad/s²), whose closed forms amplify the angle error by ω and ω².
+    let scales = [1.0, 1.0, 12.0, 12.0, 1000.0, 1000.0];
+    for (i, t) in rec.t.iter().enumerate() {
+        let exact = closed_form(omega * t, omega);
+        for k in 0..6 {
+            let value = if k < 2 {
+                unwrap_near(exact[k], cols[k][i])
+            } else {
+                exact[k]
+            };
+            let err = (cols[k][i] - value).abs() / scales[k];
+            assert!(
+                err < 1e-9,
+                "{} at t = {t}: dae {} vs closed form {value} (scaled error {err:e})",
+                names[k],
+                cols[k][i]
+            );
+        }
+    }
+}
+
+#[test]
+fn driver_torque_balances_the_power() {
+    let model = load("models/fourbar_ideal.toml", &[]);
+    let omega = 250.0 * PI / 30.0;
+    let t_end = 2.0 * 2.0 * PI / omega;
+    let (rec, _) = run_dae(&model, t_end, 1e-3, Method::Dop853, 1e-12, 1e-14);
+    let g = model.settings.gravity;
+    let torque = col(&rec, "motor.torque");
+    // d(T + U)/dt = Σ m v·a + I ω α − m g·v, from the sampled states: no numerical derivative.
+    let mut power = vec![0.0; rec.len()];
+    for b in &model.bodies {
+        let c = |q: &str| col(&rec, &format!("{}.{q}", b.name));
+        let (vx, vy, w, ax, ay, al) = (c("vx"), c("vy"), c("omega"), c("ax"), c("ay"), c("alpha"));
+        for i in 0..rec.len() {
+            power[i] += b.mass * (vx[i] * ax[i] + vy[i] * ay[i]) + b.inertia * w[i] * al[i]
+                - b.mass * (g[0] * vx[i] + g[1] * vy[i]);
+        }
+    }
+    let scale = torque.iter().map(|m| (m * omega).abs()).fold(0.0, f64::max);
+    for i in 0..rec.len() {
+        let err = (torque[i] * omega - power[i]).abs() / scale;
+        assert!(
+            err < 1e-6,
+            "t = {}: M2 ω = {} W vs dE/dt = {} W (relative {err:e})",
+            rec.t[i],
+            torque[i] * omega,
+            power[i]
+        );
+    }
+}
