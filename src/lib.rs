@@ -26,6 +26,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod cli;
+pub mod contact;
 pub mod error;
 pub mod formulation;
 pub mod mechanics;

@@ -61,6 +61,9 @@ pub struct RunSummary<'a> {
     pub degrees_of_freedom: usize,
     /// Constraint rows left out as redundant.
     pub redundant_constraints: Vec<String>,
+    /// Per clearance joint: impacts, first impact times, max penetration and peak normal force
+    /// (the last two over the output samples).
+    pub clearance_joints: Vec<output::ClearanceSummary>,
 }
 
 /// End time from `--t-end` or `--revs` (turns of the single driver).
@@ -159,6 +162,14 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
             .iter()
             .map(|&k| dae.constraints().row_name(&model, k))
             .collect(),
+        clearance_joints: output::ClearanceSummary::from_recorder(
+            &recorder,
+            &dae.contacts()
+                .sites()
+                .iter()
+                .map(|s| model.joint(s.joint).name.clone())
+                .collect::<Vec<_>>(),
+        ),
     };
     let csv = output::write_csv(&args.out, &provenance, &recorder).map_err(fail)?;
     let json = output::write_json(&summary_path(&args.out), &summary).map_err(fail)?;

@@ -21,7 +21,8 @@
 //! 2. P. E. Nikravesh, *Computer-Aided Analysis of Mechanical Systems*, 1988, §6.
 
 use super::assembly::{Assembly, assemble};
-use super::{Formulation, FormulationError, Outputs};
+use super::contacts::ContactSites;
+use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
 use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
 use crate::model::{Baumgarte, JointKind, Model};
@@ -51,6 +52,10 @@ struct Work {
     constraints: ConstraintEval,
     schur: Vec<f64>,
     lambda: Vec<f64>,
+    /// The last evaluation's (t, y) and q̈, for the grazing guard (only kept with clearance joints).
+    last_t: f64,
+    last_y: Vec<f64>,
+    last_acc: Vec<f64>,
 }
 
 /// The absolute-coordinate DAE of a model.
@@ -63,6 +68,8 @@ pub struct Dae {
     /// Rows left out as combinations of earlier rows.
     redundant: Vec<usize>,
     applied: AppliedForces,
+    /// Clearance joints (contact-force laws, no constraint rows).
+    contacts: ContactSites,
     inv_mass: Vec<f64>,
     baumgarte: Baumgarte,
     assembly: Assembly,
@@ -108,6 +115,7 @@ impl Dae {
             active,
             redundant,
             applied: AppliedForces::from_model(model),
+            contacts: ContactSites::from_model(model),
             inv_mass,
             baumgarte: options.baumgarte.unwrap_or(model.settings.baumgarte),
             assembly,
@@ -117,6 +125,9 @@ impl Dae {
                 constraints: ConstraintEval::with_rows(m),
                 schur: vec![0.0; ma * ma],
                 lambda: vec![0.0; ma],
+                last_t: f64::NAN,
+                last_y: Vec::new(),
+                last_acc: vec![0.0; 3 * nb],
             }),
             constraints,
         })
@@ -161,12 +172,17 @@ impl Dae {
         work: &mut Work,
     ) -> Result<(), FormulationError> {
         let n = self.n_coordinates();
-        let (q, v) = y.split_at(n);
+        let (q, rest) = y.split_at(n);
+        let (v, stored) = rest.split_at(n);
         for (i, sc) in work.sin_cos.iter_mut().enumerate() {
             *sc = q[3 * i + 2].sin_cos();
         }
         self.applied
             .evaluate_into(q, v, &work.sin_cos, &mut work.forces);
+        if !self.contacts.is_empty() {
+            self.contacts
+                .add_forces_into(q, v, &work.sin_cos, stored, &mut work.forces);
+        }
         self.constraints
             .evaluate_into(t, q, v, &work.sin_cos, &mut work.constraints);
 
@@ -237,7 +253,31 @@ impl Dae {
                 });
             }
         }
+        if !self.contacts.is_empty() {
+            work.last_t = t;
+            work.last_y.clear();
+            work.last_y.extend_from_slice(y);
+            work.last_acc.copy_from_slice(acc);
+        }
         Ok(())
+    }
+
+    /// Number of clearance joints.
+    pub fn n_clearance_joints(&self) -> usize {
+        self.contacts.len()
+    }
+
+    /// The clearance joints.
+    pub fn contacts(&self) -> &ContactSites {
+        &self.contacts
+    }
+
+    /// State of clearance joint `k` (in [`Dae::contacts`] order) at (t, y).
+    pub fn contact_state(&self, k: usize, y: &[f64]) -> super::contacts::SiteState {
+        let n = self.n_coordinates();
+        let sin_cos = sin_cos_of(&y[..n]);
+        self.contacts
+            .site_state(k, &y[..n], &y[n..2 * n], &sin_cos, y[2 * n + k])
     }
 
     /// Full evaluation at (t, y): accelerations, multipliers of every row and Φ.
@@ -261,10 +301,8 @@ impl Dae {
     /// Clearance joints get no entry here (their force is the contact force).
     pub fn reactions(&self, t: f64, y: &[f64], eval: &DaeEvaluation) -> (Vec<[f64; 2]>, Vec<f64>) {
         let n = self.n_coordinates();
-        let (q, v) = y.split_at(n);
-        let sin_cos: Vec<(f64, f64)> = (0..self.model.bodies.len())
-            .map(|i| q[3 * i + 2].sin_cos())
-            .collect();
+        let (q, v) = (&y[..n], &y[n..2 * n]);
+        let sin_cos = sin_cos_of(q);
         let mut ce = ConstraintEval::with_rows(self.constraints.n_rows());
         self.constraints.evaluate_into(t, q, v, &sin_cos, &mut ce);
         let mut joint_forces = vec![[0.0; 2]; self.model.joints.len()];
@@ -306,6 +344,12 @@ impl Outputs for Dae {
         for d in &self.model.drivers {
             names.push(format!("{}.torque", d.name));
         }
+        for site in self.contacts.sites() {
+            let j = &self.model.joint(site.joint).name;
+            for c in ["ex", "ey", "delta", "fn", "ft"] {
+                names.push(format!("{j}.{c}"));
+            }
+        }
         names
     }
 
@@ -327,26 +371,98 @@ impl Outputs for Dae {
             }
         }
         out.extend_from_slice(&driver_torques);
+        for k in 0..self.contacts.len() {
+            let s = self.contact_state(k, y);
+            out.extend_from_slice(&s.kinematics.e);
+            out.extend_from_slice(&[
+                s.kinematics.delta,
+                s.forces.normal_force,
+                s.forces.friction_force,
+            ]);
+        }
         Ok(eval.phi.iter().fold(0.0_f64, |m, p| m.max(p.abs())))
     }
 }
 
+/// (sin φ, cos φ) of every body.
+fn sin_cos_of(q: &[f64]) -> Vec<(f64, f64)> {
+    (0..q.len() / 3).map(|i| q[3 * i + 2].sin_cos()).collect()
+}
+
 impl Formulation for Dae {
+    /// q, q̇ (3 per body each), then the stored impact velocity of each clearance joint.
     fn n_states(&self) -> usize {
-        2 * self.n_coordinates()
+        2 * self.n_coordinates() + self.contacts.len()
     }
 
     fn initial_state(&self) -> Vec<f64> {
         let mut y = self.assembly.q.clone();
         y.extend_from_slice(&self.assembly.v);
+        // No impact recorded yet: an initial contact (δ > 0 at t = 0) runs without damping.
+        y.resize(self.n_states(), 0.0);
         y
     }
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
         let n = self.n_coordinates();
         let mut work = self.work.borrow_mut();
-        let (dq, dv) = dy.split_at_mut(n);
-        dq.copy_from_slice(&y[n..]);
+        let (dq, rest) = dy.split_at_mut(n);
+        let (dv, dstored) = rest.split_at_mut(n);
+        dq.copy_from_slice(&y[n..2 * n]);
+        dstored.fill(0.0);
         self.accelerations_into(t, y, dv, &mut work)
+    }
+
+    /// One event per clearance joint: its penetration δ.
+    fn n_events(&self) -> usize {
+        self.contacts.len()
+    }
+
+    fn events(&self, _t: f64, y: &[f64], g: &mut [f64]) {
+        let n = self.n_coordinates();
+        let sin_cos = sin_cos_of(&y[..n]);
+        self.contacts
+            .events_into(&y[..n], &y[n..2 * n], &sin_cos, g);
+    }
+
+    /// Rising δ (impact): store δ̇⁽⁻⁾ = δ̇ at the located instant for the whole contact.
+    /// Falling δ (separation): clear it. Either way the force law changed: restart.
+    fn apply_event(
+        &mut self,
+        _t: f64,
+        y: &mut [f64],
+        index: usize,
+        crossing: Crossing,
+    ) -> EventResponse {
+        let n = self.n_coordinates();
+        if index >= self.contacts.len() {
+            return EventResponse::Continue;
+        }
+        y[2 * n + index] = match crossing {
+            Crossing::Rising => self.contact_state(index, y).kinematics.delta_dot.max(0.0),
+            Crossing::Falling => 0.0,
+        };
+        EventResponse::Restart
+    }
+
+    /// The grazing guard of the free clearance joints (∞ without clearance joints).
+    fn max_step(&self, t: f64, y: &[f64]) -> f64 {
+        if self.contacts.is_empty() {
+            return f64::INFINITY;
+        }
+        let n = self.n_coordinates();
+        let mut work = self.work.borrow_mut();
+        // The integrators evaluate f at the step's end (FSAL), so q̈ is usually at hand.
+        let cached = work.last_t == t && work.last_y.as_slice() == y;
+        if !cached {
+            let mut acc = vec![0.0; n];
+            if self.accelerations_into(t, y, &mut acc, &mut work).is_err() {
+                // The failing evaluation is reported by the integrator's own rhs call.
+                return f64::INFINITY;
+            }
+        }
+        let sin_cos = sin_cos_of(&y[..n]);
+        self.contacts
+            .max_step(&y[..n], &y[n..2 * n], &work.last_acc, &sin_cos)
     }
 }

@@ -6,6 +6,7 @@
 
 pub mod assembly;
 pub mod cholesky;
+pub mod contacts;
 pub mod dae;
 
 pub use dae::{Dae, DaeOptions};

@@ -9,7 +9,7 @@ mod summary;
 pub use atomic::{AtomicFile, commit_all};
 pub use csv::write_csv;
 pub use record::Recorder;
-pub use summary::{Provenance, write_json};
+pub use summary::{ClearanceSummary, Provenance, write_json};
 
 use thiserror::Error;
 

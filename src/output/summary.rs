@@ -45,3 +45,58 @@ pub fn write_json<T: Serialize>(path: &Path, value: &T) -> Result<AtomicFile, Ou
     file.write_str("\n")?;
     Ok(file)
 }
+
+/// What a clearance joint did over a run.
+#[derive(Debug, Clone, Serialize)]
+pub struct ClearanceSummary {
+    /// Joint name.
+    pub joint: String,
+    /// Number of impacts (located onsets of contact, δ rising through 0).
+    pub impacts: usize,
+    /// Number of separations (δ falling through 0).
+    pub separations: usize,
+    /// Times of the first ten impacts (s).
+    pub first_impact_times: Vec<f64>,
+    /// Largest penetration δ over the output samples (m; negative if never in contact).
+    pub max_penetration: f64,
+    /// Largest normal force over the output samples (N).
+    pub peak_normal_force: f64,
+}
+
+impl ClearanceSummary {
+    /// Summaries of the clearance joints named `joints`, whose δ event has index k (their order)
+    /// and whose columns `J.delta`, `J.fn` are in the recorder.
+    pub fn from_recorder(rec: &super::Recorder, joints: &[String]) -> Vec<ClearanceSummary> {
+        use crate::formulation::Crossing;
+        joints
+            .iter()
+            .enumerate()
+            .map(|(k, name)| {
+                let impacts: Vec<f64> = rec
+                    .events
+                    .iter()
+                    .filter(|e| e.index == k && e.crossing == Crossing::Rising)
+                    .map(|e| e.t)
+                    .collect();
+                let max_of = |col: &str| {
+                    rec.column(&format!("{name}.{col}"))
+                        .unwrap_or_default()
+                        .into_iter()
+                        .fold(f64::NEG_INFINITY, f64::max)
+                };
+                ClearanceSummary {
+                    joint: name.clone(),
+                    impacts: impacts.len(),
+                    separations: rec
+                        .events
+                        .iter()
+                        .filter(|e| e.index == k && e.crossing == Crossing::Falling)
+                        .count(),
+                    first_impact_times: impacts.iter().take(10).copied().collect(),
+                    max_penetration: max_of("delta"),
+                    peak_normal_force: max_of("fn").max(0.0),
+                }
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,205 @@
+//! Clearance joints in absolute coordinates: where each joint's bearing and journal centres are,
+//! and how its contact forces enter the generalised force vector Q of the DAE.
+//!
+//! A clearance joint adds no constraint row. Its discrete state — the impact velocity δ̇⁽⁻⁾ of
+//! the current contact — is kept in the state vector as one extra component per joint with zero
+//! derivative (0 = no impact recorded), changed only at located events. So the equations stay a
+//! pure function of (t, y): every sample, restart and clone sees the δ̇⁽⁻⁾ that was valid at its
+//! time, and the same run gives the same numbers.
+
+use crate::contact::{
+    CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, free_flight_max_step,
+};
+use crate::mechanics::planar::{PointState, cross, perp, point_state};
+use crate::model::{Anchor, Frame, JointId, JointKind, Model};
+
+/// One clearance joint: its anchors and its contact model.
+#[derive(Debug, Clone)]
+pub struct ContactSite {
+    /// The joint in the model.
+    pub joint: JointId,
+    /// Bearing centre (body a of the joint).
+    pub bearing: Anchor,
+    /// Journal centre (body b of the joint).
+    pub journal: Anchor,
+    /// Contact law, friction and radii.
+    pub contact: ClearanceJoint,
+}
+
+/// The state of one joint at (q, q̇): centres, kinematics and forces.
+#[derive(Debug, Clone, Copy)]
+pub struct SiteState {
+    /// Bearing centre.
+    pub bearing: PointState,
+    /// Journal centre.
+    pub journal: PointState,
+    /// Relative kinematics.
+    pub kinematics: ContactKinematics,
+    /// Forces (all zero when free).
+    pub forces: ContactForces,
+}
+
+/// All clearance joints of a model (empty for a model without any: then no contact code runs).
+#[derive(Debug, Clone, Default)]
+pub struct ContactSites {
+    sites: Vec<ContactSite>,
+}
+
+impl ContactSites {
+    /// The clearance joints of `model`, in model order.
+    pub fn from_model(model: &Model) -> Self {
+        let sites = model
+            .joints
+            .iter()
+            .enumerate()
+            .filter_map(|(i, j)| match &j.kind {
+                JointKind::Clearance(spec) => Some(ContactSite {
+                    joint: JointId(i),
+                    bearing: j.a.clone(),
+                    journal: j.b.clone(),
+                    contact: ClearanceJoint::from_spec(spec),
+                }),
+                _ => None,
+            })
+            .collect();
+        ContactSites { sites }
+    }
+
+    /// Number of clearance joints.
+    pub fn len(&self) -> usize {
+        self.sites.len()
+    }
+
+    /// True if there are none.
+    pub fn is_empty(&self) -> bool {
+        self.sites.is_empty()
+    }
+
+    /// The joints.
+    pub fn sites(&self) -> &[ContactSite] {
+        &self.sites
+    }
+
+    /// State of joint `k` at (q, q̇) with the stored impact velocity `stored` (0 = none).
+    pub fn site_state(
+        &self,
+        k: usize,
+        q: &[f64],
+        v: &[f64],
+        sin_cos: &[(f64, f64)],
+        stored: f64,
+    ) -> SiteState {
+        let site = &self.sites[k];
+        let bearing = point_state(site.bearing.frame, site.bearing.local, q, v, sin_cos);
+        let journal = point_state(site.journal.frame, site.journal.local, q, v, sin_cos);
+        let kinematics = site
+            .contact
+            .kinematics(&CentreMotion::from(bearing), &CentreMotion::from(journal));
+        // No contact work while free; a stage past a contact onset that is not yet located has
+        // no stored δ̇⁽⁻⁾ and uses the current δ̇, its value at the onset to first order.
+        let forces = if kinematics.delta > 0.0 {
+            let impact = if stored > 0.0 {
+                stored
+            } else {
+                kinematics.delta_dot
+            };
+            site.contact.forces(&kinematics, impact)
+        } else {
+            ContactForces::default()
+        };
+        SiteState {
+            bearing,
+            journal,
+            kinematics,
+            forces,
+        }
+    }
+
+    /// Adds every joint's contact forces and moments to Q (`out`, 3 per body).
+    pub fn add_forces_into(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        sin_cos: &[(f64, f64)],
+        stored: &[f64],
+        out: &mut [f64],
+    ) {
+        for k in 0..self.sites.len() {
+            let s = self.site_state(k, q, v, sin_cos, stored[k]);
+            if s.forces.normal_force == 0.0 {
+                continue;
+            }
+            let site = &self.sites[k];
+            // Force at the contact point = force at the centre + its moment about the centre.
+            add(
+                site.journal.frame,
+                s.journal.arm,
+                s.forces.on_journal,
+                s.forces.journal_moment,
+                out,
+            );
+            add(
+                site.bearing.frame,
+                s.bearing.arm,
+                s.forces.on_bearing,
+                s.forces.bearing_moment,
+                out,
+            );
+        }
+    }
+
+    /// Event functions: δ of every joint.
+    pub fn events_into(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)], g: &mut [f64]) {
+        for (k, gk) in g.iter_mut().enumerate().take(self.sites.len()) {
+            *gk = self.site_state(k, q, v, sin_cos, 0.0).kinematics.delta;
+        }
+    }
+
+    /// The grazing guard: the largest step allowed from (q, q̇, q̈), the minimum over the free
+    /// joints of [`free_flight_max_step`] (∞ when every joint is in contact).
+    pub fn max_step(&self, q: &[f64], v: &[f64], acc: &[f64], sin_cos: &[(f64, f64)]) -> f64 {
+        let mut h = f64::INFINITY;
+        for (k, site) in self.sites.iter().enumerate() {
+            let s = self.site_state(k, q, v, sin_cos, 0.0);
+            if s.kinematics.delta >= 0.0 {
+                continue;
+            }
+            let a_j = point_acceleration(site.journal.frame, s.journal, acc);
+            let a_b = point_acceleration(site.bearing.frame, s.bearing, acc);
+            let rel = (a_j[0] - a_b[0]).hypot(a_j[1] - a_b[1]);
+            h = h.min(free_flight_max_step(
+                s.kinematics.delta,
+                s.kinematics.relative_speed(),
+                rel,
+                site.contact.clearance,
+            ));
+        }
+        h
+    }
+}
+
+/// Adds force `f` at the centre with arm `arm` from the centre of mass, plus the moment `m`
+/// about that centre, to the generalised forces of `frame` (nothing for the ground).
+fn add(frame: Frame, arm: [f64; 2], f: [f64; 2], m: f64, out: &mut [f64]) {
+    if let Frame::Body(id) = frame {
+        out[3 * id.0] += f[0];
+        out[3 * id.0 + 1] += f[1];
+        out[3 * id.0 + 2] += cross(arm, f) + m;
+    }
+}
+
+/// Acceleration of a body point: a_cm + α perp(A s) − ω² A s (zero on the ground).
+fn point_acceleration(frame: Frame, p: PointState, acc: &[f64]) -> [f64; 2] {
+    match frame {
+        Frame::Ground => [0.0, 0.0],
+        Frame::Body(id) => {
+            let k = 3 * id.0;
+            let u = perp(p.arm);
+            let w2 = p.omega * p.omega;
+            [
+                acc[k] + acc[k + 2] * u[0] - w2 * p.arm[0],
+                acc[k + 1] + acc[k + 2] * u[1] - w2 * p.arm[1],
+            ]
+        }
+    }
+}
