@@ -1,26 +1,36 @@
-//! Contact events of a clearance joint: what a formulation must remember between events
-//! ([`ContactMemory`]) and the statistics an output stage may collect ([`ContactStats`]).
+//! Contact events of a clearance joint: the rule for the impact velocity δ̇⁽⁻⁾
+//! ([`impact_velocity`]), an event log ([`ContactMemory`]) and the statistics an output stage may
+//! collect ([`ContactStats`]).
 //!
 //! The event function is the penetration δ (m). The integrator locates its zeros and reports
 //! each one with its direction:
 //!
-//! - **Rising** (δ: − → +, free → contact): an impact, [`ContactMemory::on_impact`]. The penetration rate at that instant is the
-//!   impact velocity δ̇⁽⁻⁾ (m/s) of the contact laws (paper eq. 7); it is stored and kept for the
-//!   whole contact, and the impact time is recorded.
-//! - **Falling** (δ: + → −, contact → free): a separation, [`ContactMemory::on_separation`]. The joint is marked free; δ̇⁽⁻⁾ keeps its
-//!   last value but is not used while free.
+//! - **Rising** (δ: − → +, free → contact): an impact. The penetration rate at that instant is the
+//!   impact velocity δ̇⁽⁻⁾ (m/s) of the contact laws (paper eq. 7); it is stored,
+//!   as max(δ̇, 0), and kept for the whole contact.
+//! - **Falling** (δ: + → −, contact → free): a separation; the stored value is cleared to 0.
 //!
-//! (The two methods take no `formulation::Crossing`: `contact` sits above `formulation` in the
-//! module order and may not use it; the formulation matches on the crossing and calls one of them.)
+//! **Where δ̇⁽⁻⁾ lives.** Both formulations keep the stored δ̇⁽⁻⁾ of each clearance joint in their
+//! state vector, as a component with zero derivative that only `apply_event` changes (0 = no
+//! impact recorded). The equations, the outputs and every sample then stay pure functions of
+//! (t, y): an output computed after the run from a stored sample sees the δ̇⁽⁻⁾ that was valid at
+//! its time, not the last one recorded. [`ContactMemory`] is only a log (impact times, counts) and
+//! never enters a force.
+//!
+//! **The rule** ([`impact_velocity`]): in contact, the law uses the stored δ̇⁽⁻⁾ if one is recorded
+//! (> 0), else the current δ̇. The second case covers an integrator stage evaluated past a contact
+//! onset that is not yet located (the current δ̇ is the value that will be recorded, to first order
+//! in the distance from the root) and a contact present without a recorded impact; if that δ̇ is
+//! not usable (≤ [`crate::contact::laws::MIN_IMPACT_VELOCITY`]) the laws switch their damping off.
 //!
 //! Locating the zero of δ with a root finder (rather than the paper's sign test between steps,
-//! eq. 26) is what makes δ̇⁽⁻⁾ the rate *at* the impact, as the paper requires below eq. 7.
+//! eq. 26) is what makes δ̇⁽⁻⁾ the rate *at* the impact, as the paper requires below eq. 7. An
+//! integrator should not report the same root again right after the restart at it (δ is ~0
+//! there); a duplicate Rising would replace δ̇⁽⁻⁾ by a rate taken after the impact began.
 //!
-//! Between a contact's start and the event that reports it (an integrator stage past the root,
-//! evaluated before the root is located), the formulation sees δ > 0 while the memory still says
-//! "free". [`ContactMemory::impact_velocity_for`] then uses the current δ̇ as the best estimate of
-//! the impact velocity about to be recorded (it is exactly that at the root), so those trial
-//! evaluations see a force close to the one the located contact will have.
+//! (`ContactMemory` takes no `formulation::Crossing`: `contact` sits above `formulation` in the
+//! module order and may not use it; the formulation matches on the crossing and calls
+//! [`ContactMemory::on_impact`] or [`ContactMemory::on_separation`].)
 //!
 //! # References
 //! 1. P. Flores, J. Ambrósio, J. C. P. Claro, H. M. Lankarani, Dynamic behaviour of planar rigid
@@ -30,12 +40,19 @@
 //!    mechanism having revolute joint with clearance, *Journal of Theoretical and Applied Vibration
 //!    and Acoustics* (2016), eqs. 7 and 26, <https://tava.isav.ir/article_19881.html>.
 
-/// The discrete state of one clearance joint, changed only at located events.
+/// The impact velocity (m/s) a contact law should use: the stored δ̇⁽⁻⁾ `stored` if one is
+/// recorded (> 0), else the current penetration rate `delta_dot` (module documentation).
+pub fn impact_velocity(stored: f64, delta_dot: f64) -> f64 {
+    if stored > 0.0 { stored } else { delta_dot }
+}
+
+/// Event log of one clearance joint: impacts and separations as the formulation saw them at
+/// located events. Bookkeeping only; no force depends on it.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
 pub struct ContactMemory {
     /// True between a Rising and the next Falling crossing of δ.
     pub in_contact: bool,
-    /// δ̇⁽⁻⁾ (m/s): δ̇ at the last Rising crossing; 0 before the first impact.
+    /// δ̇ (m/s) at the last Rising crossing; 0 before the first impact.
     pub impact_velocity: f64,
     /// Times (s) of the Rising crossings (impacts), in order.
     pub impacts: Vec<f64>,
@@ -46,8 +63,8 @@ pub struct ContactMemory {
 }
 
 impl ContactMemory {
-    /// Memory at the start of a run: `in_contact` if the journal starts with δ > 0 (then there is
-    /// no impact velocity: the contact laws switch their damping off until the next impact).
+    /// Log at the start of a run: `in_contact` if the journal starts with δ > 0 (then no impact
+    /// is recorded for that contact).
     pub fn new(in_contact: bool) -> Self {
         ContactMemory {
             in_contact,
@@ -55,9 +72,9 @@ impl ContactMemory {
         }
     }
 
-    /// A Rising zero of δ (an impact) located at time `t` (s) with penetration rate `delta_dot`
-    /// (m/s): stores δ̇⁽⁻⁾ = `delta_dot` for the whole contact, records the impact time and marks
-    /// the joint in contact. A formulation calls it for `Crossing::Rising` of its δ event.
+    /// A Rising zero of δ (an impact) located at time `t` (s) with impact velocity `delta_dot`
+    /// (m/s): records the impact time and velocity and marks the joint in contact. A formulation
+    /// calls it for `Crossing::Rising` of its δ event.
     pub fn on_impact(&mut self, t: f64, delta_dot: f64) {
         self.in_contact = true;
         self.impact_velocity = delta_dot;
@@ -72,17 +89,6 @@ impl ContactMemory {
     pub fn on_separation(&mut self) {
         self.in_contact = false;
         self.separations += 1;
-    }
-
-    /// The impact velocity (m/s) the contact law should use when the current penetration rate is
-    /// `delta_dot`: the stored δ̇⁽⁻⁾ while in contact, else `delta_dot` itself (a stage evaluated
-    /// past a not yet located impact; see the module documentation).
-    pub fn impact_velocity_for(&self, delta_dot: f64) -> f64 {
-        if self.in_contact {
-            self.impact_velocity
-        } else {
-            delta_dot
-        }
     }
 
     /// Number of impacts recorded.
@@ -132,16 +138,30 @@ impl ContactStats {
 mod tests {
     use super::*;
 
-    /// Rising stores δ̇⁽⁻⁾ for the whole contact and records the time; Falling frees the joint;
-    /// a second impact replaces δ̇⁽⁻⁾.
+    /// The rule: a recorded impact velocity wins; without one, the current rate.
     #[test]
-    fn crossings_update_the_memory() {
+    fn impact_velocity_rule() {
+        assert_eq!(impact_velocity(0.25, -0.1), 0.25, "recorded");
+        assert_eq!(
+            impact_velocity(0.0, 0.3),
+            0.3,
+            "none recorded: current rate"
+        );
+        assert_eq!(
+            impact_velocity(0.0, -0.3),
+            -0.3,
+            "current rate, unusable: laws fall back"
+        );
+    }
+
+    /// Rising records the time and velocity; Falling frees the joint; a second impact replaces
+    /// the last velocity.
+    #[test]
+    fn crossings_update_the_log() {
         let mut m = ContactMemory::new(false);
-        assert_eq!(m.impact_velocity_for(0.3), 0.3, "free: current rate");
         m.on_impact(0.10, 0.25);
         assert!(m.in_contact);
         assert_eq!(m.impact_velocity, 0.25);
-        assert_eq!(m.impact_velocity_for(-0.1), 0.25, "in contact: stored δ̇⁽⁻⁾");
         m.on_separation();
         assert!(!m.in_contact);
         assert_eq!(m.separations, 1);
@@ -152,11 +172,11 @@ mod tests {
         assert_eq!(m.max_impact_velocity, 0.25);
     }
 
-    /// Starting in contact: no impact velocity (0, so the laws fall back to no damping).
     #[test]
-    fn start_in_contact_has_no_impact_velocity() {
+    fn start_in_contact_has_no_impact() {
         let m = ContactMemory::new(true);
-        assert_eq!(m.impact_velocity_for(0.4), 0.0);
+        assert!(m.in_contact);
+        assert_eq!(m.impact_velocity, 0.0);
         assert!(m.impacts.is_empty());
     }
 

@@ -26,8 +26,9 @@
 //! and leaves at t₂ with t₂ − t₁ ≤ h, reaching its deepest δ_m at t*. As |δ̇| ≤ |ė| ≤ V + A h
 //! during the step, δ_m ≤ (V + A h)(t* − t₁) and δ_m ≤ (V + A h)(t₂ − t*), so
 //! 2 δ_m ≤ (V + A h) h. With h ≤ h_floor this gives **δ_m ≤ ε c**: only grazes shallower than
-//! 1e-3 of the clearance (0.5 µm for c = 0.5 mm) can be missed. With the reference contact (K = 6.9494e10 N/m^1.5) such a graze carries at most
-//! K (ε c)^1.5 ≈ 25 N, for at most one floor step.
+//! 1e-3 of the clearance (0.5 µm for c = 0.5 mm) can be missed. With the reference contact
+//! (K = 6.9494e10 N/m^1.5) such a graze carries at most K (ε c)^1.5 ≈ 25 N, for at most one
+//! floor step.
 //!
 //! **Limits.** A must bound |ë| over the whole step; formulations pass |ë| at the start of the
 //! step, which is exact for constant relative acceleration and correct to first order in the
@@ -121,7 +122,8 @@ mod tests {
 
     /// The two guarantees, at many combinations of gap, speed and acceleration: a step of h_max
     /// either cannot reach the wall (V h + ½A h² ≤ κ g) or is a floor step whose missed graze
-    /// is at most ε c deep ((V + A h) h / 2 ≤ ε c). Tolerance 1e-12 relative: rounding of the roots.
+    /// is at most ε c deep ((V + A h) h / 2 ≤ ε c). Tolerance 1e-12 relative: rounding of the
+    /// roots.
     #[test]
     fn guarantees_hold() {
         for gap in [1e-12, 1e-9, 1e-7, 1e-6, 1e-5, 1e-4, 4.9e-4] {

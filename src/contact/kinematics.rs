@@ -5,15 +5,16 @@
 //! Conventions (all vectors global, m, m/s):
 //!
 //! ```text
-//!     e   = r_J − r_B                      eccentricity: journal centre minus bearing centre
-//!     δ   = |e| − c                        penetration (m), > 0 in contact (paper eq. 2)
-//!     n   = e/|e|                          unit normal, from the bearing centre towards the journal centre
-//!     t   = perp(n) = (−n_y, n_x)          unit tangent, n rotated +90°
-//!     P_B = r_B + R_B n                    contact point on the bearing wall (paper eq. 3)
-//!     P_J = r_J + R_J n                    contact point on the journal surface (paper eq. 4)
-//!     v_P = v_centre + ω × (P − centre)    velocity of the body's material point at P
-//!     δ̇   = ė·n = (v_PJ − v_PB)·n          penetration rate, > 0 while the journal moves into the wall
-//!     v_t = (v_PJ − v_PB)·t = ė·t + R_J ω_J − R_B ω_B     slip velocity of the journal on the bearing
+//!     e   = r_J − r_B                    eccentricity: journal centre minus bearing centre
+//!     δ   = |e| − c                      penetration (m), > 0 in contact (paper eq. 2)
+//!     n   = e/|e|                        unit normal, bearing centre → journal centre
+//!     t   = perp(n) = (−n_y, n_x)        unit tangent, n rotated +90°
+//!     P_B = r_B + R_B n                  contact point on the bearing wall (paper eq. 3)
+//!     P_J = r_J + R_J n                  contact point on the journal surface (paper eq. 4)
+//!     v_P = v_centre + ω × (P − centre)  velocity of the body's material point at P
+//!     δ̇   = ė·n = (v_PJ − v_PB)·n        penetration rate, > 0 while moving into the wall
+//!     v_t = (v_PJ − v_PB)·t              slip velocity of the journal on the bearing
+//!         = ė·t + R_J ω_J − R_B ω_B
 //! ```
 //!
 //! with R_B = R_J + c. The contact points are material points of the two bodies, so v_t includes
@@ -23,8 +24,8 @@
 //! Forces (N) and moments (N·m, counter-clockwise positive):
 //!
 //! ```text
-//!     on the journal, at P_J:   F_J = −F_N n + F_T t      moment about r_J:  R_J n × F_J =  R_J F_T
-//!     on the bearing, at P_B:   F_B = +F_N n − F_T t      moment about r_B:  R_B n × F_B = −R_B F_T
+//!     on the journal, at P_J:  F_J = −F_N n + F_T t    moment about r_J: R_J n × F_J =  R_J F_T
+//!     on the bearing, at P_B:  F_B = +F_N n − F_T t    moment about r_B: R_B n × F_B = −R_B F_T
 //! ```
 //!
 //! F_N ≥ 0 from a [`crate::contact::laws::ContactLaw`], F_T from
@@ -35,7 +36,8 @@
 //!
 //! Relation to the paper: its eq. 6 gives the relative velocity of the bearing's contact point
 //! with respect to the journal's as −r ṅ + (ω_b R_b − ω_j R_j − r α̇) t. Differentiating eq. 5
-//! gives −ṙ n − r ṅ + (ω_b R_b − ω_j R_j) t with ṅ = α̇ t, i.e. −ṙ n + (ω_b R_b − ω_j R_j − r α̇) t:
+//! gives −ṙ n − r ṅ + (ω_b R_b − ω_j R_j) t with ṅ = α̇ t, that is
+//! −ṙ n + (ω_b R_b − ω_j R_j − r α̇) t:
 //! the first term of eq. 6 must read **−ṙ n** (as printed the normal part is missing and r α̇
 //! appears twice). With r = |e|, ṙ = δ̇ and r α̇ = ė·t this is −δ̇ n − v_t t, the negative of the
 //! journal-relative velocity used here.

@@ -11,18 +11,19 @@
 //!    (contact when δ > 0), normal n = e/|e| (bearing centre → journal centre), tangent
 //!    t = (−n_y, n_x), contact points P_B = r_B + R_B n and P_J = r_J + R_J n, penetration rate
 //!    δ̇ = ė·n and slip velocity v_t = (v_PJ − v_PB)·t.
-//! 2. **Normal force** ([`laws`], paper eq. 7): F_N = K δⁿ (1 + χ(c_r) δ̇/δ̇⁽⁻⁾) ≥ 0 with χ of
-//!    Lankarani–Nikravesh (ref. 1), Hunt–Crossley (ref. 2), Flores et al. (ref. 3) or Hertz (χ = 0).
-//! 3. **Stiffness** ([`stiffness`], paper eqs. 8–9): K = 4/(3(σ_J + σ_B)) sqrt(R_J R_B/(R_B − R_J)),
-//!    σ = (1 − ν²)/E.
+//! 2. **Normal force** ([`laws`], paper eq. 7): F_N = K δⁿ (1 + χ(c_r) δ̇/δ̇⁽⁻⁾) ≥ 0 with χ
+//!    of Lankarani–Nikravesh (ref. 1), Hunt–Crossley (ref. 2), Flores et al. (ref. 3) or Hertz
+//!    (χ = 0).
+//! 3. **Stiffness** ([`stiffness`], paper eqs. 8–9):
+//!    K = 4/(3(σ_J + σ_B)) sqrt(R_J R_B/(R_B − R_J)), σ = (1 − ν²)/E.
 //! 4. **Friction** ([`friction`], paper eqs. 10–11 with eq. 11 corrected): Ambrósio's modified
 //!    Coulomb law F_T = −c_f c_d F_N sign(v_t) (ref. 4).
 //! 5. **Application**: the journal receives −F_N n + F_T t at P_J, the bearing the opposite at
 //!    P_B ([`kinematics::ContactKinematics::forces`]).
 //! 6. **Events** ([`events`]): δ is the event function; the impact velocity δ̇⁽⁻⁾ is δ̇ at the
-//!    located zero where δ rises, kept for the whole contact.
-//! 7. **Grazing guard** ([`grazing`]): while free, the step is limited so that only grazes shallower
-//!    than 1e-3 c can begin and end inside one step.
+//!    located zero where δ rises, kept for the whole contact in the formulation's state vector.
+//! 7. **Grazing guard** ([`grazing`]): while free, the step is limited so that only grazes
+//!    shallower than 1e-3 c can begin and end inside one step.
 //!
 //! [`ClearanceJoint`] bundles a joint's law, friction and radii behind two calls,
 //! [`ClearanceJoint::kinematics`] and [`ClearanceJoint::forces`].
@@ -43,8 +44,8 @@
 //! 3. P. Flores, M. Machado, M. T. Silva, J. M. Martins, On the continuous contact force models for
 //!    soft materials in multibody dynamics, *Multibody System Dynamics* 25 (2011) 357–375.
 //! 4. J. A. C. Ambrósio, Impact of rigid and flexible multibody systems: deformation description
-//!    and contact models, in: *Virtual Nonlinear Multibody Systems*, NATO Science Series II vol. 103,
-//!    Kluwer, 2003, pp. 57–81.
+//!    and contact models, in: *Virtual Nonlinear Multibody Systems*, NATO Science Series II
+//!    vol. 103, Kluwer, 2003, pp. 57–81.
 //! 5. P. Flores, J. Ambrósio, J. C. P. Claro, H. M. Lankarani, Dynamic behaviour of planar rigid
 //!    multi-body systems including revolute joints with clearance, *Proc. IMechE Part K: Journal
 //!    of Multi-body Dynamics* 221 (2007) 161–174.
@@ -59,7 +60,7 @@ pub mod kinematics;
 pub mod laws;
 pub mod stiffness;
 
-pub use events::{ContactMemory, ContactStats};
+pub use events::{ContactMemory, ContactStats, impact_velocity};
 pub use friction::friction_force;
 pub use grazing::free_flight_max_step;
 pub use kinematics::{CentreMotion, ContactForces, ContactKinematics, clearance_kinematics};
@@ -105,7 +106,7 @@ impl ClearanceJoint {
     }
 
     /// Normal force, friction force and their action on both bodies, given the joint's kinematics
-    /// and the impact velocity δ̇⁽⁻⁾ (m/s) to use (see [`ContactMemory::impact_velocity_for`]).
+    /// and the impact velocity δ̇⁽⁻⁾ (m/s) to use (see [`impact_velocity`]).
     /// All zero when δ ≤ 0.
     pub fn forces(&self, kinematics: &ContactKinematics, impact_velocity: f64) -> ContactForces {
         let normal = self

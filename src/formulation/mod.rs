@@ -8,8 +8,10 @@ pub mod assembly;
 pub mod cholesky;
 pub mod contacts;
 pub mod dae;
+pub mod reduced_lagrangian;
 
 pub use dae::{Dae, DaeOptions};
+pub use reduced_lagrangian::ReducedLagrangian;
 
 use thiserror::Error;
 

@@ -30,8 +30,8 @@
 //!
 //! # References
 //! 1. J. A. C. Ambrósio, Impact of rigid and flexible multibody systems: deformation description
-//!    and contact models, in: *Virtual Nonlinear Multibody Systems*, NATO Science Series II vol. 103,
-//!    Kluwer, 2003, pp. 57–81.
+//!    and contact models, in: *Virtual Nonlinear Multibody Systems*, NATO Science Series II
+//!    vol. 103, Kluwer, 2003, pp. 57–81.
 //! 2. S. B. Farahan, M. R. Ghazavi, S. Rahmanian, Nonlinear dynamic analysis of a four-bar
 //!    mechanism having revolute joint with clearance, *Journal of Theoretical and Applied Vibration
 //!    and Acoustics* (2016), eqs. 10–11, <https://tava.isav.ir/article_19881.html>.

@@ -4,10 +4,10 @@
 //!     F_N = K δⁿ [1 + 3(1 − c_r²)/4 · δ̇/δ̇⁽⁻⁾]     for δ > 0,   F_N = 0 otherwise
 //! ```
 //!
-//! F_N (N) ≥ 0 pushes journal and bearing apart; K (N/m^n) generalised stiffness; δ (m) penetration;
-//! n (–) exponent, 1.5 in the paper; δ̇ (m/s) penetration rate, > 0 while compressing; δ̇⁽⁻⁾ (m/s)
-//! the rate at the start of the contact; c_r (–) coefficient of restitution. The hysteresis factor
-//! χ = 3(1 − c_r²)/4 is 0.1425 for c_r = 0.9. Compression (δ̇ > 0) adds to the elastic force,
+//! F_N (N) ≥ 0 pushes journal and bearing apart; K (N/m^n) generalised stiffness; δ (m)
+//! penetration; n (–) exponent, 1.5 in the paper; δ̇ (m/s) penetration rate, > 0 while
+//! compressing; δ̇⁽⁻⁾ (m/s) the rate at the start of the contact; c_r (–) coefficient of
+//! restitution. The hysteresis factor χ = 3(1 − c_r²)/4 is 0.1425 for c_r = 0.9. Compression (δ̇ > 0) adds to the elastic force,
 //! restitution (δ̇ < 0) takes from it, and the result is clamped at 0 (never pulls). Derived for
 //! c_r close to 1 (low dissipation relative to the elastic energy). The shared rules (clamp,
 //! fallback when δ̇⁽⁻⁾ is unusable) are in [`super::hysteresis_force`].

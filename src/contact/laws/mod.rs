@@ -29,8 +29,10 @@
 //!   for δ̇/δ̇⁽⁻⁾ < −1/χ it would make the bodies pull each other, which a dry contact cannot do.
 //!   The paper does not state this clamp; parameters.md requires it.
 //! - Fallback when δ̇⁽⁻⁾ is not usable (≤ [`MIN_IMPACT_VELOCITY`], or not finite): the damping term
-//!   is switched off and F_N = K δⁿ. This happens when a contact exists without a recorded impact
-//!   (the journal starts touching the wall at t = 0, or reaches it with a vanishing normal speed).
+//!   is switched off and F_N = K δⁿ. This happens when the wall is reached with a vanishing normal
+//!   speed, or when a contact has no recorded impact (e.g. present at t = 0) and the penetration
+//!   is not growing: the formulation then hands in the current δ̇
+//!   ([`crate::contact::events::impact_velocity`]).
 //!   Why this fallback: the hysteresis term is calibrated on the impact velocity so that the energy
 //!   lost in one impact is ΔE ≈ (1 − c_r²) · ½ m_eff δ̇⁽⁻⁾² (ref. 1), which tends to 0 with δ̇⁽⁻⁾;
 //!   the elastic law is that limit. Keeping the ratio δ̇/δ̇⁽⁻⁾ with a tiny denominator would
