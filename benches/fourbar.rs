@@ -2,7 +2,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use linkdyn::formulation::{Dae, DaeOptions, Formulation};
-use linkdyn::output::Recorder;
+use linkdyn::solve::Recorder;
 use linkdyn::solve::{Method, SolverOptions, integrate};
 use std::hint::black_box;
 

@@ -7,7 +7,7 @@
 //!
 //! ```
 //! use linkdyn::formulation::{Dae, DaeOptions, Formulation};
-//! use linkdyn::output::Recorder;
+//! use linkdyn::solve::Recorder;
 //! use linkdyn::solve::{integrate, SolverOptions};
 //!
 //! // Two crank turns (0.48 s at 250 rpm) of the reference four-bar with ideal joints.
@@ -25,6 +25,7 @@
 // Index loops over the x, y, φ components mirror the equations they implement.
 #![allow(clippy::needless_range_loop)]
 
+pub mod analysis;
 pub mod cli;
 pub mod contact;
 pub mod error;

@@ -20,7 +20,7 @@ fn energy_is_conserved_over_ten_seconds() {
 }
 
 /// Largest |Φ| over the samples in [t_from, t_to).
-fn max_violation(rec: &linkdyn::output::Recorder, t_from: f64, t_to: f64) -> f64 {
+fn max_violation(rec: &linkdyn::solve::Recorder, t_from: f64, t_to: f64) -> f64 {
     rec.t
         .iter()
         .zip(&rec.violation)

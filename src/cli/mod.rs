@@ -5,6 +5,7 @@
 //! why); 4 a result file could not be written.
 
 mod check;
+mod compare;
 mod run;
 
 use clap::{Parser, Subcommand};
@@ -24,6 +25,8 @@ enum Command {
     Check(check::CheckArgs),
     /// Integrate a model and write a CSV of outputs and a JSON summary.
     Run(run::RunArgs),
+    /// Run the DAE and the reduced formulation with the same settings; print their differences.
+    Compare(compare::CompareArgs),
 }
 
 /// Exit code for bad input.
@@ -95,6 +98,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Check(args) => check::run(&args),
         Command::Run(args) => run::run(&args),
+        Command::Compare(args) => compare::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

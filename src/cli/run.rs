@@ -1,45 +1,206 @@
 //! `linkdyn run MODEL …`: integrate and write `F.csv` plus the summary `F.json`.
 
 use super::{Failure, fail, fail_model};
-use crate::formulation::{Dae, DaeOptions, Formulation};
-use crate::model::Model;
-use crate::output::{self, Provenance, Recorder, format_number};
-use crate::solve::{self, Method, SolverOptions, SolverStats};
-use clap::Args;
+use crate::formulation::{Dae, DaeOptions, Formulation, Outputs, ReducedLagrangian};
+use crate::model::{JointKind, Model};
+use crate::output::{self, ClearanceSummary, Provenance, format_number};
+use crate::solve::{self, Method, Recorder, SolverOptions, SolverStats};
+use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// Which equations of motion to integrate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FormulationKind {
+    /// Absolute coordinates, ideal joints as Baumgarte-stabilised constraints (any model).
+    Dae,
+    /// The reduced Lagrangian model of the four-bar with one clearance joint (Farahan et al. 2016).
+    Reduced,
+}
+
+impl std::fmt::Display for FormulationKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            FormulationKind::Dae => "dae",
+            FormulationKind::Reduced => "reduced",
+        })
+    }
+}
+
+/// Time span, sampling and solver settings shared by `run` and `compare`.
+#[derive(Debug, Args)]
+pub struct SolveArgs {
+    /// End time (s).
+    #[arg(long, conflicts_with = "revs")]
+    pub t_end: Option<f64>,
+    /// Number of turns of the (single) driver; default 2 when the model has one driver.
+    #[arg(long)]
+    pub revs: Option<f64>,
+    /// Output sample interval (s); samples come from the dense output, not from solver steps.
+    #[arg(long, default_value_t = 1e-4)]
+    pub dt: f64,
+    /// Relative tolerance.
+    #[arg(long, default_value_t = 1e-8)]
+    pub rtol: f64,
+    /// Absolute tolerance.
+    #[arg(long, default_value_t = 1e-10)]
+    pub atol: f64,
+    /// Integration method: dop853 (8th order) or dopri5 (5th order).
+    #[arg(long, default_value = "dop853")]
+    pub method: String,
+    /// Override a model field: dotted path, array entries by name (repeatable), e.g.
+    /// `--set drivers.motor.speed_rpm=3500`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
 
 /// Arguments of `run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
     /// Model file (TOML).
     model: PathBuf,
-    /// End time (s).
-    #[arg(long, conflicts_with = "revs")]
-    t_end: Option<f64>,
-    /// Number of turns of the (single) driver; default 2 when the model has one driver.
+    #[command(flatten)]
+    solve: SolveArgs,
+    /// Equations of motion.
+    #[arg(long, value_enum, default_value_t = FormulationKind::Dae)]
+    formulation: FormulationKind,
+    /// Integrate the energy bookkeeping (DAE only): adds the `energy.*` columns and the energy
+    /// balance to the summary.
     #[arg(long)]
-    revs: Option<f64>,
-    /// Output sample interval (s); samples come from the dense output, not from solver steps.
-    #[arg(long, default_value_t = 1e-4)]
-    dt: f64,
-    /// Relative tolerance.
-    #[arg(long, default_value_t = 1e-8)]
-    rtol: f64,
-    /// Absolute tolerance.
-    #[arg(long, default_value_t = 1e-10)]
-    atol: f64,
-    /// Integration method: dop853 (8th order) or dopri5 (5th order).
-    #[arg(long, default_value = "dop853")]
-    method: String,
-    /// Override a model field: dotted path, array entries by name (repeatable), e.g.
-    /// `--set drivers.motor.speed_rpm=3500`.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    set: Vec<String>,
+    energy: bool,
     /// Output CSV file; the summary goes beside it with the extension `.json`.
     #[arg(long)]
     out: PathBuf,
+}
+
+/// Settings resolved from [`SolveArgs`] and the model.
+#[derive(Debug, Clone)]
+pub struct RunSettings {
+    /// End time (s).
+    pub t_end: f64,
+    /// Output interval (s).
+    pub dt: f64,
+    /// Solver options.
+    pub options: SolverOptions,
+}
+
+impl RunSettings {
+    /// Checks the arguments against the model.
+    pub fn resolve(args: &SolveArgs, model: &Model) -> Result<Self, Failure> {
+        let t_end = end_time(model, args.t_end, args.revs)?;
+        if !(args.dt.is_finite() && args.dt > 0.0) {
+            return Err(Failure::bad_input(format!(
+                "--dt: expected a positive time step, got {}",
+                args.dt
+            )));
+        }
+        let method: Method = args
+            .method
+            .parse()
+            .map_err(|e: solve::SolveError| Failure::bad_input(e.to_string()))?;
+        let options = SolverOptions::default()
+            .method(method)
+            .rtol(args.rtol)
+            .atol(args.atol)
+            .build()
+            .map_err(|e| Failure::bad_input(e.to_string()))?;
+        Ok(RunSettings {
+            t_end,
+            dt: args.dt,
+            options,
+        })
+    }
+
+    /// Every setting as (name, value) for the provenance.
+    pub fn provenance(&self, model: &Model, formulation: FormulationKind) -> Provenance {
+        let b = model.settings.baumgarte;
+        let mut settings = vec![
+            ("formulation", formulation.to_string()),
+            ("method", self.options.method.to_string()),
+            ("rtol", format_number(self.options.rtol)),
+            ("atol", format_number(self.options.atol)),
+            ("t_end", format_number(self.t_end)),
+            ("dt", format_number(self.dt)),
+        ];
+        if formulation == FormulationKind::Dae {
+            settings.push(("baumgarte_alpha", format_number(b.alpha)));
+            settings.push(("baumgarte_beta", format_number(b.beta)));
+        }
+        Provenance {
+            linkdyn_version: crate::version(),
+            model: model.source.clone(),
+            settings: settings
+                .into_iter()
+                .map(|(k, v)| (k.to_string(), v))
+                .collect(),
+        }
+    }
+}
+
+/// A finished run.
+#[derive(Debug)]
+pub struct Finished {
+    /// Sampled outputs and events.
+    pub recorder: Recorder,
+    /// Solver statistics.
+    pub stats: SolverStats,
+    /// Wall time of the integration, output evaluation included (s).
+    pub wall_time_s: f64,
+}
+
+/// Integrates `f` from its initial state with the run settings.
+pub fn integrate_recorded<F: Formulation + Outputs>(
+    f: &mut F,
+    settings: &RunSettings,
+) -> Result<Finished, Failure> {
+    let started = Instant::now();
+    let y0 = f.initial_state();
+    let mut recorder = Recorder::new(f);
+    let stats = solve::integrate(
+        f,
+        f.t0(),
+        &y0,
+        settings.t_end,
+        settings.dt,
+        &settings.options,
+        &mut recorder,
+    )
+    .map_err(fail)?;
+    Ok(Finished {
+        recorder,
+        stats,
+        wall_time_s: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// Builds the chosen formulation of `model` and runs it; `energy` asks the DAE for its energy
+/// bookkeeping.
+pub fn run_formulation(
+    model: &Model,
+    path: &Path,
+    kind: FormulationKind,
+    settings: &RunSettings,
+    energy: bool,
+) -> Result<Finished, Failure> {
+    match kind {
+        FormulationKind::Dae => {
+            let options = DaeOptions {
+                energy,
+                ..DaeOptions::default()
+            };
+            let mut dae = Dae::new(model, &options).map_err(|e| fail_model(path, e))?;
+            integrate_recorded(&mut dae, settings)
+        }
+        FormulationKind::Reduced if energy => Err(Failure::bad_input(
+            "--energy: the energy bookkeeping is available for the DAE formulation only",
+        )),
+        FormulationKind::Reduced => {
+            let mut reduced = ReducedLagrangian::new(model).map_err(|e| fail_model(path, e))?;
+            integrate_recorded(&mut reduced, settings)
+        }
+    }
 }
 
 /// The JSON summary of a run.
@@ -55,15 +216,54 @@ pub struct RunSummary<'a> {
     pub wall_time_s: f64,
     /// Number of output samples.
     pub samples: usize,
-    /// Largest constraint violation |Φ| over the samples (m or rad).
+    /// Largest constraint violation |Φ| over the samples (m or rad; 0 for the reduced formulation).
     pub max_constraint_violation: f64,
-    /// Degrees of freedom of the dynamic model.
-    pub degrees_of_freedom: usize,
-    /// Constraint rows left out as redundant.
-    pub redundant_constraints: Vec<String>,
     /// Per clearance joint: impacts, first impact times, max penetration and peak normal force
     /// (the last two over the output samples).
-    pub clearance_joints: Vec<output::ClearanceSummary>,
+    pub clearance_joints: Vec<ClearanceSummary>,
+    /// With `--energy`: the work–energy balance over the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_balance: Option<EnergyBalance>,
+}
+
+/// The work–energy balance of a run with `--energy` (J).
+#[derive(Debug, Serialize)]
+pub struct EnergyBalance {
+    /// Driver work at the end.
+    pub driver_work: f64,
+    /// Work of applied torques and forces at the end.
+    pub external_work: f64,
+    /// Energy dissipated by contacts and dampers at the end.
+    pub dissipated: f64,
+    /// max |driver + external work − ΔE − dissipated| over the samples.
+    pub max_abs_residual: f64,
+    /// That residual relative to the largest |driver work| (or |ΔE| when there is no driver).
+    pub relative_residual: f64,
+}
+
+impl EnergyBalance {
+    /// From the `energy.*` columns, if present.
+    pub fn from_recorder(rec: &Recorder) -> Option<Self> {
+        let last = |c: &str| rec.column(c).and_then(|v| v.last().copied());
+        let balance = rec.column("energy.balance")?;
+        let max_abs = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let max_abs_residual = max_abs(&balance);
+        let kinetic = rec.column("energy.kinetic")?;
+        let scale = max_abs(&rec.column("energy.driver_work")?)
+            .max(max_abs(&rec.column("energy.external_work")?))
+            .max(max_abs(&kinetic));
+        Some(EnergyBalance {
+            driver_work: last("energy.driver_work")?,
+            external_work: last("energy.external_work")?,
+            dissipated: last("energy.dissipated")?,
+            max_abs_residual,
+            relative_residual: if scale > 0.0 {
+                max_abs_residual / scale
+            } else {
+                max_abs_residual
+            },
+        })
+    }
 }
 
 /// End time from `--t-end` or `--revs` (turns of the single driver).
@@ -95,6 +295,16 @@ pub fn end_time(model: &Model, t_end: Option<f64>, revs: Option<f64>) -> Result<
     Ok(t)
 }
 
+/// Names of the model's clearance joints, in model order (the order of their events).
+pub fn clearance_joint_names(model: &Model) -> Vec<String> {
+    model
+        .joints
+        .iter()
+        .filter(|j| matches!(j.kind, JointKind::Clearance(_)))
+        .map(|j| j.name.clone())
+        .collect()
+}
+
 /// The summary file beside a CSV: `F.csv` → `F.json`.
 pub fn summary_path(csv: &Path) -> PathBuf {
     csv.with_extension("json")
@@ -102,88 +312,43 @@ pub fn summary_path(csv: &Path) -> PathBuf {
 
 /// Runs `run`.
 pub fn run(args: &RunArgs) -> Result<(), Failure> {
-    let model = crate::model::load(&args.model, &args.set).map_err(fail)?;
-    let t_end = end_time(&model, args.t_end, args.revs)?;
-    if !(args.dt.is_finite() && args.dt > 0.0) {
-        return Err(Failure::bad_input(format!(
-            "--dt: expected a positive time step, got {}",
-            args.dt
-        )));
-    }
-    let method: Method = args
-        .method
-        .parse()
-        .map_err(|e: solve::SolveError| Failure::bad_input(e.to_string()))?;
-    let options = SolverOptions::default()
-        .method(method)
-        .rtol(args.rtol)
-        .atol(args.atol)
-        .build()
-        .map_err(|e| Failure::bad_input(e.to_string()))?;
-
-    let mut dae =
-        Dae::new(&model, &DaeOptions::default()).map_err(|e| fail_model(&args.model, e))?;
-    let started = Instant::now();
-    let y0 = dae.initial_state();
-    let mut recorder = Recorder::new(&dae);
-    let stats = solve::integrate(&mut dae, 0.0, &y0, t_end, args.dt, &options, &mut recorder)
-        .map_err(fail)?;
-    let wall_time_s = started.elapsed().as_secs_f64();
-
-    let baumgarte = dae.baumgarte();
-    let provenance = Provenance {
-        linkdyn_version: crate::version(),
-        model: model.source.clone(),
-        settings: [
-            ("formulation", "dae".to_string()),
-            ("method", method.to_string()),
-            ("rtol", format_number(args.rtol)),
-            ("atol", format_number(args.atol)),
-            ("t_end", format_number(t_end)),
-            ("dt", format_number(args.dt)),
-            ("baumgarte_alpha", format_number(baumgarte.alpha)),
-            ("baumgarte_beta", format_number(baumgarte.beta)),
-        ]
-        .into_iter()
-        .map(|(k, v)| (k.to_string(), v))
-        .collect(),
-    };
+    let model = crate::model::load(&args.model, &args.solve.set).map_err(fail)?;
+    let settings = RunSettings::resolve(&args.solve, &model)?;
+    let done = run_formulation(
+        &model,
+        &args.model,
+        args.formulation,
+        &settings,
+        args.energy,
+    )?;
+    let provenance = settings.provenance(&model, args.formulation);
+    let rec = &done.recorder;
     let summary = RunSummary {
         provenance: &provenance,
-        solver_options: &options,
-        solver_stats: &stats,
-        wall_time_s,
-        samples: recorder.len(),
-        max_constraint_violation: recorder.max_constraint_violation,
-        degrees_of_freedom: dae.n_coordinates()
-            - (dae.constraints().n_rows() - dae.redundant_rows().len()),
-        redundant_constraints: dae
-            .redundant_rows()
-            .iter()
-            .map(|&k| dae.constraints().row_name(&model, k))
-            .collect(),
-        clearance_joints: output::ClearanceSummary::from_recorder(
-            &recorder,
-            &dae.contacts()
-                .sites()
-                .iter()
-                .map(|s| model.joint(s.joint).name.clone())
-                .collect::<Vec<_>>(),
-        ),
+        solver_options: &settings.options,
+        solver_stats: &done.stats,
+        wall_time_s: done.wall_time_s,
+        samples: rec.len(),
+        max_constraint_violation: rec.max_constraint_violation,
+        clearance_joints: ClearanceSummary::from_recorder(rec, &clearance_joint_names(&model)),
+        energy_balance: EnergyBalance::from_recorder(rec),
     };
-    let csv = output::write_csv(&args.out, &provenance, &recorder).map_err(fail)?;
+    let csv = output::write_csv(&args.out, &provenance, rec).map_err(fail)?;
     let json = output::write_json(&summary_path(&args.out), &summary).map_err(fail)?;
     output::commit_all(vec![csv, json]).map_err(fail)?;
+    let impacts: usize = summary.clearance_joints.iter().map(|c| c.impacts).sum();
     eprintln!(
-        "{}: {} samples to {} in {:.3} s ({} steps, {} rejected, {} RHS evaluations, max |Phi| = {:.2e})",
+        "{} ({}): {} samples to {} in {:.3} s ({} steps, {} rejected, {} RHS evaluations, {} impacts, max |Phi| = {:.2e})",
         model.name,
-        recorder.len(),
+        args.formulation,
+        rec.len(),
         args.out.display(),
-        wall_time_s,
-        stats.steps,
-        stats.rejected,
-        stats.rhs_evals,
-        recorder.max_constraint_violation
+        done.wall_time_s,
+        done.stats.steps,
+        done.stats.rejected,
+        done.stats.rhs_evals,
+        impacts,
+        rec.max_constraint_violation
     );
     Ok(())
 }

@@ -115,7 +115,9 @@ impl ContactSites {
         }
     }
 
-    /// Adds every joint's contact forces and moments to Q (`out`, 3 per body).
+    /// Adds every joint's contact forces and moments to Q (`out`, 3 per body). Returns the
+    /// rate at which the contacts dissipate energy (W, ≥ 0: hysteresis damping and friction),
+    /// computed only when `dissipation` is asked for (0 otherwise).
     pub fn add_forces_into(
         &self,
         q: &[f64],
@@ -123,13 +125,24 @@ impl ContactSites {
         sin_cos: &[(f64, f64)],
         stored: &[f64],
         out: &mut [f64],
-    ) {
+        dissipation: bool,
+    ) -> f64 {
+        let mut dissipated = 0.0;
         for k in 0..self.sites.len() {
             let s = self.site_state(k, q, v, sin_cos, stored[k]);
-            if s.forces.normal_force == 0.0 {
+            if s.kinematics.delta <= 0.0 {
                 continue;
             }
             let site = &self.sites[k];
+            if dissipation {
+                // Power of the contact forces −F_N δ̇ + F_T v_t minus its elastic part −K δⁿ δ̇.
+                let law = &site.contact.law;
+                let elastic = law.stiffness * s.kinematics.delta.powf(law.exponent);
+                dissipated -= s.forces.power + elastic * s.kinematics.delta_dot;
+            }
+            if s.forces.normal_force == 0.0 {
+                continue;
+            }
             // Force at the contact point = force at the centre + its moment about the centre.
             add(
                 site.journal.frame,
@@ -146,6 +159,20 @@ impl ContactSites {
                 out,
             );
         }
+        dissipated
+    }
+
+    /// Elastic energy stored in the contacts, Σ K δⁿ⁺¹/(n + 1) over the joints in contact (J).
+    pub fn elastic_energy(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> f64 {
+        let mut energy = 0.0;
+        for (k, site) in self.sites.iter().enumerate() {
+            let delta = self.site_state(k, q, v, sin_cos, 0.0).kinematics.delta;
+            if delta > 0.0 {
+                let law = &site.contact.law;
+                energy += law.stiffness * delta.powf(law.exponent + 1.0) / (law.exponent + 1.0);
+            }
+        }
+        energy
     }
 
     /// Event functions: δ of every joint.

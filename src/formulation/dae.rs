@@ -35,14 +35,33 @@ use super::cholesky;
 pub struct DaeOptions {
     /// Baumgarte factors; `None` takes the model's `[settings.baumgarte]`.
     pub baumgarte: Option<Baumgarte>,
+    /// Integrate the energy bookkeeping too: driver work, work of applied torques and forces,
+    /// and energy dissipated by contacts and dampers, as three extra states, with the output
+    /// columns `energy.kinetic energy.potential energy.contact_elastic energy.driver_work
+    /// energy.external_work energy.dissipated energy.balance`.
+    pub energy: bool,
 }
 
 impl Default for DaeOptions {
-    /// Baumgarte from the model file (whose own default is α = β = 10 s⁻¹).
+    /// Baumgarte from the model file (whose own default is α = β = 10 s⁻¹); no energy bookkeeping.
     fn default() -> Self {
-        DaeOptions { baumgarte: None }
+        DaeOptions {
+            baumgarte: None,
+            energy: false,
+        }
     }
 }
+
+/// Names of the energy columns, in order (see [`DaeOptions::energy`]).
+pub const ENERGY_COLUMNS: [&str; 7] = [
+    "energy.kinetic",
+    "energy.potential",
+    "energy.contact_elastic",
+    "energy.driver_work",
+    "energy.external_work",
+    "energy.dissipated",
+    "energy.balance",
+];
 
 /// Buffers reused by every evaluation.
 #[derive(Debug, Clone)]
@@ -52,6 +71,8 @@ struct Work {
     constraints: ConstraintEval,
     schur: Vec<f64>,
     lambda: Vec<f64>,
+    /// Rates of the energy states: driver power, external power, dissipation (W).
+    energy_rates: [f64; 3],
     /// The last evaluation's (t, y) and q̈, for the grazing guard (only kept with clearance joints).
     last_t: f64,
     last_y: Vec<f64>,
@@ -72,6 +93,10 @@ pub struct Dae {
     contacts: ContactSites,
     inv_mass: Vec<f64>,
     baumgarte: Baumgarte,
+    /// Energy bookkeeping states are integrated.
+    energy: bool,
+    /// T + U + V_contact at the initial state (J), the reference of the energy balance.
+    initial_energy: f64,
     assembly: Assembly,
     work: RefCell<Work>,
 }
@@ -110,7 +135,7 @@ impl Dae {
             .collect();
         let nb = model.bodies.len();
         let ma = active.len();
-        Ok(Dae {
+        let mut dae = Dae {
             model: model.clone(),
             active,
             redundant,
@@ -118,6 +143,8 @@ impl Dae {
             contacts: ContactSites::from_model(model),
             inv_mass,
             baumgarte: options.baumgarte.unwrap_or(model.settings.baumgarte),
+            energy: options.energy,
+            initial_energy: 0.0,
             assembly,
             work: RefCell::new(Work {
                 sin_cos: vec![(0.0, 1.0); nb],
@@ -125,12 +152,18 @@ impl Dae {
                 constraints: ConstraintEval::with_rows(m),
                 schur: vec![0.0; ma * ma],
                 lambda: vec![0.0; ma],
+                energy_rates: [0.0; 3],
                 last_t: f64::NAN,
                 last_y: Vec::new(),
                 last_acc: vec![0.0; 3 * nb],
             }),
             constraints,
-        })
+        };
+        if dae.energy {
+            let [kinetic, potential, elastic, ..] = dae.energy_columns(&dae.initial_state());
+            dae.initial_energy = kinetic + potential + elastic;
+        }
+        Ok(dae)
     }
 
     /// The model.
@@ -179,10 +212,18 @@ impl Dae {
         }
         self.applied
             .evaluate_into(q, v, &work.sin_cos, &mut work.forces);
-        if !self.contacts.is_empty() {
-            self.contacts
-                .add_forces_into(q, v, &work.sin_cos, stored, &mut work.forces);
-        }
+        let contact_dissipation = if self.contacts.is_empty() {
+            0.0
+        } else {
+            self.contacts.add_forces_into(
+                q,
+                v,
+                &work.sin_cos,
+                &stored[..self.contacts.len()],
+                &mut work.forces,
+                self.energy,
+            )
+        };
         self.constraints
             .evaluate_into(t, q, v, &work.sin_cos, &mut work.constraints);
 
@@ -253,6 +294,17 @@ impl Dae {
                 });
             }
         }
+        if self.energy {
+            // Driver power: −λ (Φ_q q̇) over the driver rows (the work of the motor torque).
+            let mut driver_power = 0.0;
+            for (i, &ri) in self.active.iter().enumerate() {
+                if let RowSource::Driver(_) = self.constraints.sources()[ri] {
+                    driver_power -= work.lambda[i] * ce.rows[ri].dot_velocity(v);
+                }
+            }
+            let (external, damping) = self.applied.power_split(q, v, &work.sin_cos);
+            work.energy_rates = [driver_power, external, contact_dissipation + damping];
+        }
         if !self.contacts.is_empty() {
             work.last_t = t;
             work.last_y.clear();
@@ -260,6 +312,44 @@ impl Dae {
             work.last_acc.copy_from_slice(acc);
         }
         Ok(())
+    }
+
+    /// The energy columns at y (requires [`DaeOptions::energy`]): kinetic, potential (gravity and
+    /// springs), contact elastic, driver work, external work, dissipated, and the balance
+    /// driver + external work − (ΔT + ΔU + ΔV_contact + dissipated), which is 0 for exact
+    /// solutions (J).
+    pub fn energy_columns(&self, y: &[f64]) -> [f64; 7] {
+        let n = self.n_coordinates();
+        let (q, v) = (&y[..n], &y[n..2 * n]);
+        let sin_cos = sin_cos_of(q);
+        let kinetic: f64 = self
+            .model
+            .bodies
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                0.5 * b.mass * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1])
+                    + 0.5 * b.inertia * v[3 * i + 2] * v[3 * i + 2]
+            })
+            .sum();
+        let potential = self.applied.potential_energy(q, &sin_cos);
+        let elastic = self.contacts.elastic_energy(q, v, &sin_cos);
+        let k = 2 * n + self.contacts.len();
+        let (driver, external, dissipated) = match y.get(k..k + 3) {
+            Some(e) => (e[0], e[1], e[2]),
+            None => (0.0, 0.0, 0.0),
+        };
+        let stored = kinetic + potential + elastic;
+        let e0 = self.initial_energy;
+        [
+            kinetic,
+            potential,
+            elastic,
+            driver,
+            external,
+            dissipated,
+            driver + external - (stored - e0) - dissipated,
+        ]
     }
 
     /// Number of clearance joints.
@@ -350,6 +440,9 @@ impl Outputs for Dae {
                 names.push(format!("{j}.{c}"));
             }
         }
+        if self.energy {
+            names.extend(ENERGY_COLUMNS.iter().map(|c| c.to_string()));
+        }
         names
     }
 
@@ -380,6 +473,9 @@ impl Outputs for Dae {
                 s.forces.friction_force,
             ]);
         }
+        if self.energy {
+            out.extend_from_slice(&self.energy_columns(y));
+        }
         Ok(eval.phi.iter().fold(0.0_f64, |m, p| m.max(p.abs())))
     }
 }
@@ -391,14 +487,16 @@ fn sin_cos_of(q: &[f64]) -> Vec<(f64, f64)> {
 
 impl Formulation for Dae {
     /// q, q̇ (3 per body each), then the stored impact velocity of each clearance joint.
+    /// With energy bookkeeping, three more: driver work, external work, dissipated energy.
     fn n_states(&self) -> usize {
-        2 * self.n_coordinates() + self.contacts.len()
+        2 * self.n_coordinates() + self.contacts.len() + if self.energy { 3 } else { 0 }
     }
 
     fn initial_state(&self) -> Vec<f64> {
         let mut y = self.assembly.q.clone();
         y.extend_from_slice(&self.assembly.v);
-        // No impact recorded yet: an initial contact (δ > 0 at t = 0) runs without damping.
+        // No impact recorded yet (an initial contact uses its current δ̇ as impact velocity);
+        // the energy integrals start at 0.
         y.resize(self.n_states(), 0.0);
         y
     }
@@ -410,7 +508,12 @@ impl Formulation for Dae {
         let (dv, dstored) = rest.split_at_mut(n);
         dq.copy_from_slice(&y[n..2 * n]);
         dstored.fill(0.0);
-        self.accelerations_into(t, y, dv, &mut work)
+        self.accelerations_into(t, y, dv, &mut work)?;
+        if self.energy {
+            let nc = self.contacts.len();
+            dstored[nc..nc + 3].copy_from_slice(&work.energy_rates);
+        }
+        Ok(())
     }
 
     /// One event per clearance joint: its penetration δ.

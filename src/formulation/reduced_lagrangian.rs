@@ -830,7 +830,6 @@ impl ReducedLagrangian {
             rocker: fixed(self.o4).body(a4, th4 - rk.beta, w4, alpha4),
         })
     }
-
 }
 
 /// Motion of a link's first joint point.
@@ -887,12 +886,7 @@ impl Outputs for ReducedLagrangian {
     }
 
     /// Output values at (t, y) in the order of [`Outputs::output_names`].
-    fn outputs_into(
-        &self,
-        t: f64,
-        y: &[f64],
-        out: &mut Vec<f64>,
-    ) -> Result<f64, FormulationError> {
+    fn outputs_into(&self, t: f64, y: &[f64], out: &mut Vec<f64>) -> Result<f64, FormulationError> {
         let o = self.outputs(t, y)?;
         out.clear();
         for i in 0..self.model.bodies.len() {

@@ -73,6 +73,40 @@ impl AppliedForces {
         }
     }
 
+    /// Power of the constant torques and point forces (W) and the rate at which the dampers of
+    /// spring-dampers dissipate energy (W, ≥ 0), for energy bookkeeping. Gravity and spring
+    /// stiffness are conservative: see [`AppliedForces::potential_energy`].
+    pub fn power_split(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> (f64, f64) {
+        let (mut external, mut damping) = (0.0, 0.0);
+        for e in &self.elements {
+            match e {
+                ForceElement::Torque { body, torque, .. } => external += torque * v[3 * body.0 + 2],
+                ForceElement::PointForce { at, force, .. } => {
+                    let p = point_state(at.frame, at.local, q, v, sin_cos);
+                    external += force[0] * p.velocity[0] + force[1] * p.velocity[1];
+                }
+                ForceElement::SpringDamper {
+                    a, b, damping: c, ..
+                } => {
+                    let pa = point_state(a.frame, a.local, q, v, sin_cos);
+                    let pb = point_state(b.frame, b.local, q, v, sin_cos);
+                    let d = [
+                        pb.position[0] - pa.position[0],
+                        pb.position[1] - pa.position[1],
+                    ];
+                    let length = d[0].hypot(d[1]);
+                    if length >= 1e-12 {
+                        let rate = (d[0] * (pb.velocity[0] - pa.velocity[0])
+                            + d[1] * (pb.velocity[1] - pa.velocity[1]))
+                            / length;
+                        damping += c * rate * rate;
+                    }
+                }
+            }
+        }
+        (external, damping)
+    }
+
     /// Potential energy of gravity and springs (J), for energy checks.
     pub fn potential_energy(&self, q: &[f64], sin_cos: &[(f64, f64)]) -> f64 {
         let mut u = 0.0;

@@ -1,9 +1,10 @@
 //! The CSV result file: `#` provenance lines, a header row, then one row per sample.
 //! Numbers are written in Rust's shortest round-trip form, so the file holds the exact f64s.
 
+use super::OutputError;
 use super::atomic::AtomicFile;
 use super::summary::Provenance;
-use super::{OutputError, Recorder};
+use crate::solve::Recorder;
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -3,12 +3,10 @@
 
 mod atomic;
 mod csv;
-mod record;
 mod summary;
 
 pub use atomic::{AtomicFile, commit_all};
 pub use csv::write_csv;
-pub use record::Recorder;
 pub use summary::{ClearanceSummary, Provenance, write_json};
 
 use thiserror::Error;

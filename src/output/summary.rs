@@ -66,7 +66,7 @@ pub struct ClearanceSummary {
 impl ClearanceSummary {
     /// Summaries of the clearance joints named `joints`, whose δ event has index k (their order)
     /// and whose columns `J.delta`, `J.fn` are in the recorder.
-    pub fn from_recorder(rec: &super::Recorder, joints: &[String]) -> Vec<ClearanceSummary> {
+    pub fn from_recorder(rec: &crate::solve::Recorder, joints: &[String]) -> Vec<ClearanceSummary> {
         use crate::formulation::Crossing;
         joints
             .iter()

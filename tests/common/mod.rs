@@ -5,7 +5,7 @@ pub mod ode;
 
 use linkdyn::formulation::{Dae, DaeOptions, Formulation};
 use linkdyn::model::Model;
-use linkdyn::output::Recorder;
+use linkdyn::solve::Recorder;
 use linkdyn::solve::{Method, SolverOptions, SolverStats, integrate};
 
 /// Loads a shipped model with overrides, panicking with the error text (tests only).

@@ -1,7 +1,7 @@
-//! A sink that evaluates a formulation's output columns at every sample and keeps them.
+//! The trajectory of a run: a sink that evaluates a formulation's output columns at every sample and keeps them.
 
+use super::{EventRecord, Sink, SolveError};
 use crate::formulation::{Formulation, Outputs};
-use crate::solve::{EventRecord, Sink, SolveError};
 
 /// Output columns sampled over a run, row-major, plus the events seen.
 #[derive(Debug, Clone, Default)]

@@ -1,0 +1,5 @@
+//! Analyses of finished runs; each returns plain data (no files, no printing).
+
+pub mod compare;
+
+pub use compare::{ColumnDifference, Comparison, compare};
