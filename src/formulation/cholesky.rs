@@ -3,28 +3,28 @@
 //! For the m ≲ 30 constraint rows of a linkage, a plain loop beats library calls (no allocation,
 //! no dispatch); see `../shared/reference/ida_and_speed.md` for the measurements that chose it.
 
-/// Factors the SPD matrix `a` (m × m, row-major) in place into L (lower triangle).
-/// Returns the index of the first pivot that is not positive (relative to the diagonal), i.e.
-/// where the matrix is singular to working precision.
+/// Factors the SPD matrix `a` (m × m, row-major; only the lower triangle is read) in place
+/// into L, lower triangle, with the *reciprocal* 1/L_jj stored on the diagonal so that
+/// [`solve`] multiplies instead of dividing. Returns the index of the first pivot that is not
+/// positive (relative to the diagonal), i.e. where the matrix is singular to working precision.
 pub fn factor(a: &mut [f64], m: usize) -> Result<(), usize> {
+    debug_assert!(a.len() >= m * m, "matrix buffer holds m × m entries");
     for j in 0..m {
-        let mut d = a[j * m + j];
-        for k in 0..j {
-            d -= a[j * m + k] * a[j * m + k];
-        }
-        let scale = a[j * m + j].abs().max(f64::MIN_POSITIVE);
-        if d.is_nan() || d <= 1e-13 * scale {
+        let (done, rest) = a.split_at_mut(j * m);
+        let (row_j, below) = rest.split_at_mut(m);
+        let _ = done;
+        let (lj, tail_j) = row_j.split_at_mut(j);
+        let diagonal = tail_j[0];
+        let d = diagonal - lj.iter().map(|x| x * x).sum::<f64>();
+        if d.is_nan() || d <= 1e-13 * diagonal.abs().max(f64::MIN_POSITIVE) {
             return Err(j);
         }
-        let d = d.sqrt();
-        a[j * m + j] = d;
-        let inv = 1.0 / d;
-        for i in (j + 1)..m {
-            let mut s = a[i * m + j];
-            for k in 0..j {
-                s -= a[i * m + k] * a[j * m + k];
-            }
-            a[i * m + j] = s * inv;
+        let inv = 1.0 / d.sqrt();
+        tail_j[0] = inv;
+        for row_i in below.chunks_exact_mut(m) {
+            let (li, tail_i) = row_i.split_at_mut(j);
+            let dot: f64 = li.iter().zip(lj.iter()).map(|(x, y)| x * y).sum();
+            tail_i[0] = (tail_i[0] - dot) * inv;
         }
     }
     Ok(())
@@ -33,18 +33,16 @@ pub fn factor(a: &mut [f64], m: usize) -> Result<(), usize> {
 /// Solves L Lᵀ x = b in place (`b` becomes x), with L from [`factor`].
 pub fn solve(l: &[f64], m: usize, b: &mut [f64]) {
     for i in 0..m {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= l[i * m + k] * b[k];
-        }
-        b[i] = s / l[i * m + i];
+        let row = &l[i * m..i * m + m];
+        let dot: f64 = row[..i].iter().zip(&b[..i]).map(|(x, y)| x * y).sum();
+        b[i] = (b[i] - dot) * row[i];
     }
     for i in (0..m).rev() {
         let mut s = b[i];
         for k in (i + 1)..m {
             s -= l[k * m + i] * b[k];
         }
-        b[i] = s / l[i * m + i];
+        b[i] = s * l[i * m + i];
     }
 }
 

@@ -7,6 +7,7 @@
 //! pure function of (t, y): every sample, restart and clone sees the δ̇⁽⁻⁾ that was valid at its
 //! time, and the same run gives the same numbers.
 
+use crate::contact::laws::penetration_power;
 use crate::contact::{
     CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, free_flight_max_step,
 };
@@ -137,7 +138,7 @@ impl ContactSites {
             if dissipation {
                 // Power of the contact forces −F_N δ̇ + F_T v_t minus its elastic part −K δⁿ δ̇.
                 let law = &site.contact.law;
-                let elastic = law.stiffness * s.kinematics.delta.powf(law.exponent);
+                let elastic = law.stiffness * penetration_power(s.kinematics.delta, law.exponent);
                 dissipated -= s.forces.power + elastic * s.kinematics.delta_dot;
             }
             if s.forces.normal_force == 0.0 {

@@ -70,6 +70,8 @@ struct Work {
     forces: Vec<f64>,
     constraints: ConstraintEval,
     schur: Vec<f64>,
+    /// M⁻¹ times each active row's two Jacobian blocks.
+    weighted: Vec<[[f64; 3]; 2]>,
     lambda: Vec<f64>,
     /// Rates of the energy states: driver power, external power, dissipation (W).
     energy_rates: [f64; 3],
@@ -86,6 +88,8 @@ pub struct Dae {
     constraints: ConstraintSet,
     /// Rows used in the dynamics (all but the redundant ones).
     active: Vec<usize>,
+    /// Pairs of active-row blocks that share a body: the non-zeros of S.
+    couplings: Vec<Coupling>,
     /// Rows left out as combinations of earlier rows.
     redundant: Vec<usize>,
     applied: AppliedForces,
@@ -137,6 +141,7 @@ impl Dae {
         let ma = active.len();
         let mut dae = Dae {
             model: model.clone(),
+            couplings: couplings(&constraints, &active, &assembly),
             active,
             redundant,
             applied: AppliedForces::from_model(model),
@@ -151,6 +156,7 @@ impl Dae {
                 forces: vec![0.0; 3 * nb],
                 constraints: ConstraintEval::with_rows(m),
                 schur: vec![0.0; ma * ma],
+                weighted: vec![[[0.0; 3]; 2]; ma],
                 lambda: vec![0.0; ma],
                 energy_rates: [0.0; 3],
                 last_t: f64::NAN,
@@ -230,34 +236,39 @@ impl Dae {
         let ma = self.active.len();
         let ce = &work.constraints;
         let Baumgarte { alpha, beta } = self.baumgarte;
-        // S = Φ_q M⁻¹ Φ_qᵀ and the right-hand side Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ).
+        // W = M⁻¹ Φ_qᵀ by row blocks, and the right-hand side Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ).
         for (i, &ri) in self.active.iter().enumerate() {
-            let row_i = &ce.rows[ri];
+            let row = &ce.rows[ri];
             let mut rhs = -(ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri]);
-            for (body, jac) in [(row_i.body_a, &row_i.jac_a), (row_i.body_b, &row_i.jac_b)] {
-                if let Some(b) = body {
-                    for c in 0..3 {
-                        rhs += jac[c] * self.inv_mass[3 * b + c] * work.forces[3 * b + c];
+            for (side, (body, jac)) in [(row.body_a, &row.jac_a), (row.body_b, &row.jac_b)]
+                .into_iter()
+                .enumerate()
+            {
+                let w = &mut work.weighted[i][side];
+                match body {
+                    Some(b) => {
+                        for c in 0..3 {
+                            w[c] = jac[c] * self.inv_mass[3 * b + c];
+                            rhs += w[c] * work.forces[3 * b + c];
+                        }
                     }
+                    None => *w = [0.0; 3],
                 }
             }
             work.lambda[i] = rhs;
-            for (j, &rj) in self.active.iter().enumerate().take(i + 1) {
-                let row_j = &ce.rows[rj];
-                let mut s = 0.0;
-                for (bi, ji) in [(row_i.body_a, &row_i.jac_a), (row_i.body_b, &row_i.jac_b)] {
-                    let Some(bi) = bi else { continue };
-                    for (bj, jj) in [(row_j.body_a, &row_j.jac_a), (row_j.body_b, &row_j.jac_b)] {
-                        if bj == Some(bi) {
-                            for c in 0..3 {
-                                s += ji[c] * self.inv_mass[3 * bi + c] * jj[c];
-                            }
-                        }
-                    }
-                }
-                work.schur[i * ma + j] = s;
-                work.schur[j * ma + i] = s;
-            }
+        }
+        // S = Φ_q M⁻¹ Φ_qᵀ, lower triangle (all Cholesky reads), over the precomputed pairs of
+        // row blocks that share a body: the other entries are structurally zero.
+        work.schur.fill(0.0);
+        for p in &self.couplings {
+            let w = &work.weighted[p.i][p.side_i];
+            let row_j = &ce.rows[self.active[p.j]];
+            let jac = if p.side_j == 0 {
+                &row_j.jac_a
+            } else {
+                &row_j.jac_b
+            };
+            work.schur[p.i * ma + p.j] += w[0] * jac[0] + w[1] * jac[1] + w[2] * jac[2];
         }
         if let Err(pivot) = cholesky::factor(&mut work.schur, ma) {
             return Err(FormulationError::SingularConstraints {
@@ -478,6 +489,42 @@ impl Outputs for Dae {
         }
         Ok(eval.phi.iter().fold(0.0_f64, |m, p| m.max(p.abs())))
     }
+}
+
+/// Active rows i ≥ j whose Jacobian blocks `side_i` and `side_j` (0 = body a, 1 = body b) act on
+/// the same body: S_ij gets their weighted product.
+#[derive(Debug, Clone, Copy)]
+struct Coupling {
+    i: usize,
+    j: usize,
+    side_i: usize,
+    side_j: usize,
+}
+
+/// The couplings of the active rows; which bodies a row touches does not change with q.
+fn couplings(set: &ConstraintSet, active: &[usize], assembly: &Assembly) -> Vec<Coupling> {
+    let mut eval = ConstraintEval::with_rows(set.n_rows());
+    let sin_cos = sin_cos_of(&assembly.q);
+    set.evaluate_into(0.0, &assembly.q, &assembly.v, &sin_cos, &mut eval);
+    let bodies = |k: usize| [eval.rows[active[k]].body_a, eval.rows[active[k]].body_b];
+    let mut out = Vec::new();
+    for i in 0..active.len() {
+        for j in 0..=i {
+            for (side_i, bi) in bodies(i).into_iter().enumerate() {
+                for (side_j, bj) in bodies(j).into_iter().enumerate() {
+                    if bi.is_some() && bi == bj {
+                        out.push(Coupling {
+                            i,
+                            j,
+                            side_i,
+                            side_j,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    out
 }
 
 /// (sin φ, cos φ) of every body.

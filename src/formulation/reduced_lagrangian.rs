@@ -77,8 +77,8 @@
 
 use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
 use crate::contact::{
-    CentreMotion, ClearanceJoint, ContactKinematics, ContactMemory, free_flight_max_step,
-    impact_velocity,
+    CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, ContactMemory,
+    free_flight_max_step, impact_velocity,
 };
 use crate::mechanics::planar::{cross, dot, perp, rotate};
 use crate::model::{
@@ -715,12 +715,10 @@ impl ReducedLagrangian {
         }
     }
 
-    /// Everything at (t, y): angles and rates, θ̈3, θ̈4, the clearance joint's state and forces,
-    /// the crank torque M2 and the body states. Fails with `NonFinite` if an acceleration is not
-    /// finite.
-    pub fn outputs(&self, t: f64, y: &[f64]) -> Result<ReducedOutputs, FormulationError> {
-        let [th3, th4, w3, w4, stored] = state(y);
-        let w2 = self.theta2_dot;
+    /// The equations of motion at (t, y): everything the right-hand side needs, kept for
+    /// [`ReducedLagrangian::outputs`].
+    fn dynamics(&self, t: f64, y: &[f64]) -> Result<Dynamics, FormulationError> {
+        let [_, _, _, _, stored] = state(y);
         let g = self.gravity;
         let c = self.chain(t, y);
         let kin = self.joint_kinematics(&c);
@@ -742,12 +740,10 @@ impl ReducedLagrangian {
                 forces.bearing_moment,
             )
         };
-        let (cr, cp, rk) = (&self.crank, &self.coupler, &self.rocker);
-        let a2 = rotate(c.sc[0], cr.com);
+        let (cp, rk) = (&self.coupler, &self.rocker);
         let a3 = rotate(c.sc[1], cp.com);
         let a4 = rotate(c.sc[2], rk.com);
         let weight = |m: f64| [m * g[0], m * g[1]];
-        let (load2, _) = cr.load_moment_and_sum(c.sc[0]);
         let (load3, load3_sum) = cp.load_moment_and_sum(c.sc[1]);
         let (load4, _) = rk.load_moment_and_sum(c.sc[2]);
 
@@ -770,6 +766,41 @@ impl ReducedLagrangian {
                 });
             }
         }
+        Ok(Dynamics {
+            chain: c,
+            kin,
+            forces,
+            f3,
+            load3_sum,
+            a3,
+            a4,
+            alpha3,
+            alpha4,
+        })
+    }
+
+    /// Everything at (t, y): angles and rates, θ̈3, θ̈4, the clearance joint's state and forces,
+    /// the crank torque M2 and the body states. Fails with `NonFinite` if an acceleration is not
+    /// finite.
+    pub fn outputs(&self, t: f64, y: &[f64]) -> Result<ReducedOutputs, FormulationError> {
+        let [th3, th4, w3, w4, stored] = state(y);
+        let w2 = self.theta2_dot;
+        let g = self.gravity;
+        let Dynamics {
+            chain: c,
+            kin,
+            forces,
+            f3,
+            load3_sum,
+            a3,
+            a4,
+            alpha3,
+            alpha4,
+        } = self.dynamics(t, y)?;
+        let (cr, cp, rk) = (&self.crank, &self.coupler, &self.rocker);
+        let a2 = rotate(c.sc[0], cr.com);
+        let weight = |m: f64| [m * g[0], m * g[1]];
+        let (load2, _) = cr.load_moment_and_sum(c.sc[0]);
 
         // Coupler centre-of-mass acceleration and the pin force of the crank on the coupler.
         let ja3 = perp(a3);
@@ -830,6 +861,23 @@ impl ReducedLagrangian {
             rocker: fixed(self.o4).body(a4, th4 - rk.beta, w4, alpha4),
         })
     }
+}
+
+/// The state of the equations of motion at one (t, y) (see [`ReducedLagrangian::dynamics`]).
+struct Dynamics {
+    chain: Chain,
+    kin: ContactKinematics,
+    forces: ContactForces,
+    /// Contact force on the coupler (N).
+    f3: [f64; 2],
+    /// Sum of the applied point forces on the coupler (N).
+    load3_sum: [f64; 2],
+    /// Arms O→G of coupler and rocker (m).
+    a3: [f64; 2],
+    a4: [f64; 2],
+    /// θ̈3, θ̈4 (rad/s²).
+    alpha3: f64,
+    alpha4: f64,
 }
 
 /// Motion of a link's first joint point.
@@ -924,14 +972,9 @@ impl Formulation for ReducedLagrangian {
     }
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
-        let o = self.outputs(t, y)?;
-        for (d, v) in dy.iter_mut().zip([
-            o.theta3_dot,
-            o.theta4_dot,
-            o.theta3_ddot,
-            o.theta4_ddot,
-            0.0,
-        ]) {
+        let d = self.dynamics(t, y)?;
+        let [_, _, w3, w4, _] = state(y);
+        for (d, v) in dy.iter_mut().zip([w3, w4, d.alpha3, d.alpha4, 0.0]) {
             *d = v;
         }
         Ok(())
@@ -982,6 +1025,11 @@ impl Formulation for ReducedLagrangian {
     /// The grazing guard while the joint is free ([`free_flight_max_step`] with |ė| and |ë| at
     /// (t, y)); unlimited in contact.
     fn max_step(&self, t: f64, y: &[f64]) -> f64 {
+        // In contact the guard does not apply: skip the acceleration analysis (this is called
+        // at every step).
+        if self.kinematics(t, y).delta >= 0.0 {
+            return f64::INFINITY;
+        }
         match self.outputs(t, y) {
             Ok(o) if o.delta < 0.0 => free_flight_max_step(
                 o.delta,
