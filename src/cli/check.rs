@@ -62,7 +62,7 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     println!("drivers: {}", model.drivers.len());
     for d in &model.drivers {
         println!(
-            "  {:<12} constant speed {} rad/s ({} rpm) on joint {}, from {} rad",
+            "  {:<12} constant speed {} rad/s ({:.4} rpm) on joint {}, from {} rad",
             d.name,
             d.speed,
             d.speed * 30.0 / std::f64::consts::PI,

@@ -4,7 +4,8 @@
 //! An integrator detects a contact by a sign change of δ between step ends (or at the points its
 //! dense output is checked at). A contact that starts and ends inside one step leaves δ < 0 at
 //! both ends and is missed, together with its impact. [`free_flight_max_step`] limits the step
-//! while the joint is free (δ < 0).
+//! while the joint is free (δ < 0, or δ = 0 at a restart after a separation: then the gap is 0
+//! and the floor applies).
 //!
 //! **Rule.** With the gap g = −δ = c − |e| > 0, the relative speed V = |ė| and a bound A on the
 //! relative acceleration |ë| of the two centres over the step (m, m/s, m/s²):
@@ -12,7 +13,7 @@
 //! ```text
 //!     h_approach = largest h with  V h + ½ A h²  ≤ κ g         = 2κg / (V + sqrt(V² + 2κ A g))
 //!     h_floor    = largest h with (V h + A h²)/2 ≤ ε c         = 4εc / (V + sqrt(V² + 8ε A c))
-//!     h_max      = max(h_approach, h_floor)     (∞ when V = A = 0, and when δ ≥ 0)
+//!     h_max      = max(h_approach, h_floor)     (∞ when V = A = 0, and when δ > 0)
 //! ```
 //!
 //! with κ = [`APPROACH_FRACTION`] = 0.5 and ε = [`GRAZE_DEPTH_FRACTION`] = 1e-3.
@@ -53,7 +54,7 @@ pub const GRAZE_DEPTH_FRACTION: f64 = 1e-3;
 
 /// The largest step (s) allowed while the joint is free, from the penetration `delta` = δ (m,
 /// < 0 when free), the relative speed `relative_speed` = |ė| (m/s), a bound `relative_acceleration`
-/// on |ë| over the step (m/s²) and the radial clearance `clearance` = c (m). ∞ when δ ≥ 0 (in
+/// on |ë| over the step (m/s²) and the radial clearance `clearance` = c (m). ∞ when δ > 0 (in
 /// contact the contact stiffness governs the step, and the end of contact is an event) or when
 /// the centres neither move nor accelerate relative to each other. Rule and bound: module
 /// documentation.
@@ -67,7 +68,7 @@ pub fn free_flight_max_step(
         && relative_speed.is_finite()
         && relative_acceleration.is_finite()
         && clearance.is_finite();
-    if !finite || delta >= 0.0 {
+    if !finite || delta > 0.0 {
         return f64::INFINITY;
     }
     let v = relative_speed.abs();
@@ -93,7 +94,10 @@ mod tests {
 
     #[test]
     fn unlimited_in_contact_or_at_rest() {
-        assert_eq!(free_flight_max_step(0.0, 1.0, 1.0, C), f64::INFINITY);
+        // δ = 0 (a restart at a separation): no gap left, so the floor step applies:
+        // 4εc/(V + √(V² + 8εAc)) with V = A = 1.
+        let floor = 4.0 * 1e-3 * C / (1.0 + (1.0 + 8.0 * 1e-3 * C).sqrt());
+        assert_eq!(free_flight_max_step(0.0, 1.0, 1.0, C), floor);
         assert_eq!(free_flight_max_step(1e-6, 1.0, 1.0, C), f64::INFINITY);
         assert_eq!(free_flight_max_step(-1e-4, 0.0, 0.0, C), f64::INFINITY);
         assert_eq!(free_flight_max_step(f64::NAN, 1.0, 1.0, C), f64::INFINITY);

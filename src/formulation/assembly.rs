@@ -16,6 +16,9 @@ const RANK_TOLERANCE: f64 = 1e-9;
 /// |Φ| (m or rad) below which the positions count as assembled.
 const POSITION_TOLERANCE: f64 = 1e-12;
 const MAX_ITERATIONS: usize = 100;
+/// Velocity residual |Φ_q q̇ + Φ_t| (relative to 1 + max |Φ_t|) above which the ideal-joint
+/// velocity analysis counts as inconsistent.
+const VELOCITY_TOLERANCE: f64 = 1e-10;
 
 /// Result of assembling a model.
 #[derive(Debug, Clone)]
@@ -63,8 +66,15 @@ fn evaluate(set: &ConstraintSet, t: f64, q: &[f64], v: &[f64], out: &mut Constra
     set.evaluate_into(t, q, v, &sin_cos, out);
 }
 
-/// Assembles `model` at time `t0` with the constraint rows of `set`.
-pub fn assemble(model: &Model, set: &ConstraintSet, t0: f64) -> Result<Assembly, FormulationError> {
+/// Assembles `model` at time `t0`: positions with the constraint rows of `set` (the ideal-joint
+/// rows, clearance joints held at their initial eccentricity), velocities with the same rows
+/// where they are consistent, otherwise with the rows of the dynamics, `dynamic`.
+pub fn assemble(
+    model: &Model,
+    set: &ConstraintSet,
+    dynamic: &ConstraintSet,
+    t0: f64,
+) -> Result<Assembly, FormulationError> {
     let n = 3 * model.bodies.len();
     let m = set.n_rows();
     let mut q: Vec<f64> = model
@@ -135,16 +145,18 @@ pub fn assemble(model: &Model, set: &ConstraintSet, t0: f64) -> Result<Assembly,
     let redundant_rows = redundant_rows(&jac);
     let rank = m - redundant_rows.len();
 
-    // Velocities: minimum-norm correction of the guess onto Φ_q q̇ = −Φ_t.
+    // Velocities: the ideal-joint velocity analysis on the same rows; where that is inconsistent
+    // (a clearance joint held as a revolute joint while a driver moves its journal relative to
+    // its bearing), only the rows of the dynamics, `dynamic`.
     let v_guess_vec = DVector::from_column_slice(&v_guess);
-    let phi_t = DVector::from_column_slice(&eval.phi_t);
-    let defect = &jac * &v_guess_vec + phi_t;
-    let svd = jac.clone().svd(true, true);
-    let eps = 1e-12 * svd.singular_values.max().max(1e-300);
-    let correction = svd
-        .solve(&defect, eps)
-        .unwrap_or_else(|_| DVector::zeros(n));
-    let v: Vec<f64> = (v_guess_vec - correction).iter().copied().collect();
+    let (v, defect) = project_velocities(&jac, &eval.phi_t, &v_guess_vec);
+    let v = if defect <= VELOCITY_TOLERANCE * (1.0 + max_abs(&eval.phi_t)) {
+        v
+    } else {
+        let mut dyn_eval = ConstraintEval::with_rows(dynamic.n_rows());
+        evaluate(dynamic, t0, &q, &zero, &mut dyn_eval);
+        project_velocities(&dense_jacobian(&dyn_eval, n), &dyn_eval.phi_t, &v_guess_vec).0
+    };
 
     Ok(Assembly {
         q,
@@ -155,6 +167,21 @@ pub fn assemble(model: &Model, set: &ConstraintSet, t0: f64) -> Result<Assembly,
         iterations,
         residual,
     })
+}
+
+/// The minimum-norm correction of `guess` onto Φ_q q̇ = −Φ_t, and the largest residual
+/// |Φ_q q̇ + Φ_t| left (non-zero where the rows are inconsistent).
+fn project_velocities(jac: &DMatrix<f64>, phi_t: &[f64], guess: &DVector<f64>) -> (Vec<f64>, f64) {
+    let phi_t = DVector::from_column_slice(phi_t);
+    let defect = jac * guess + &phi_t;
+    let svd = jac.clone().svd(true, true);
+    let eps = 1e-12 * svd.singular_values.max().max(1e-300);
+    let correction = svd
+        .solve(&defect, eps)
+        .unwrap_or_else(|_| DVector::zeros(guess.len()));
+    let v = guess - correction;
+    let residual = (jac * &v + phi_t).amax();
+    (v.iter().copied().collect(), residual)
 }
 
 /// Redundant rows of `set` at the coordinates `q` (velocities `v` only fill Φ̇).

@@ -189,7 +189,7 @@ impl ContactSites {
         let mut h = f64::INFINITY;
         for (k, site) in self.sites.iter().enumerate() {
             let s = self.site_state(k, q, v, sin_cos, 0.0);
-            if s.kinematics.delta >= 0.0 {
+            if in_contact(&s.kinematics) {
                 continue;
             }
             let a_j = point_acceleration(site.journal.frame, s.journal, acc);
@@ -204,6 +204,12 @@ impl ContactSites {
         }
         h
     }
+}
+
+/// True while a joint is in contact for the grazing guard: δ > 0, or δ = 0 exactly and rising
+/// (a restart at an impact). A restart at a separation has δ = 0 and δ̇ < 0: it is guarded.
+pub fn in_contact(k: &ContactKinematics) -> bool {
+    k.delta > 0.0 || (k.delta == 0.0 && k.delta_dot > 0.0)
 }
 
 /// Adds force `f` at the centre with arm `arm` from the centre of mass, plus the moment `m`
@@ -229,5 +235,37 @@ fn point_acceleration(frame: Frame, p: PointState, acc: &[f64]) -> [f64; 2] {
                 acc[k + 1] + acc[k + 2] * u[1] - w2 * p.arm[1],
             ]
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::clearance_kinematics;
+
+    /// A restart at a separation has δ = 0 exactly and δ̇ < 0: the grazing guard must apply
+    /// there (it once skipped δ ≥ 0 and let DOP853 take a 5 rad step of free flight); a restart
+    /// at an impact (δ = 0, δ̇ > 0) is contact.
+    #[test]
+    fn zero_penetration_counts_as_contact_only_while_rising() {
+        let bearing = CentreMotion::default();
+        let at = |vx: f64| {
+            let journal = CentreMotion {
+                position: [0.5e-3, 0.0],
+                velocity: [vx, 0.0],
+                omega: 0.0,
+            };
+            clearance_kinematics(&bearing, &journal, 0.01, 0.5e-3)
+        };
+        assert_eq!(at(-0.1).delta, 0.0);
+        assert!(!in_contact(&at(-0.1)), "separating at δ = 0 is free");
+        assert!(in_contact(&at(0.1)), "impacting at δ = 0 is contact");
+        let inside = CentreMotion {
+            position: [0.4e-3, 0.0],
+            ..CentreMotion::default()
+        };
+        assert!(!in_contact(&clearance_kinematics(
+            &bearing, &inside, 0.01, 0.5e-3
+        )));
     }
 }

@@ -121,8 +121,8 @@ impl Dae {
     /// equations.
     pub fn new(model: &Model, options: &DaeOptions) -> Result<Self, FormulationError> {
         let assembly_set = ConstraintSet::from_model(model, true);
-        let assembly = assemble(model, &assembly_set, 0.0)?;
         let constraints = ConstraintSet::from_model(model, false);
+        let assembly = assemble(model, &assembly_set, &constraints, 0.0)?;
         let m = constraints.n_rows();
         let redundant = if model.has_clearance_joints() {
             // The assembly set has extra rows for the clearance joints: find the dynamic set's own

@@ -1027,17 +1027,17 @@ impl Formulation for ReducedLagrangian {
     fn max_step(&self, t: f64, y: &[f64]) -> f64 {
         // In contact the guard does not apply: skip the acceleration analysis (this is called
         // at every step).
-        if self.kinematics(t, y).delta >= 0.0 {
+        if super::contacts::in_contact(&self.kinematics(t, y)) {
             return f64::INFINITY;
         }
         match self.outputs(t, y) {
-            Ok(o) if o.delta < 0.0 => free_flight_max_step(
+            Ok(o) => free_flight_max_step(
                 o.delta,
                 o.eccentricity_rate[0].hypot(o.eccentricity_rate[1]),
                 o.eccentricity_acceleration[0].hypot(o.eccentricity_acceleration[1]),
                 self.joint.clearance,
             ),
-            // In contact, or not evaluable (the next rhs call reports why): no limit from here.
+            // Not evaluable (the next rhs call reports why): no limit from here.
             _ => f64::INFINITY,
         }
     }
