@@ -114,3 +114,27 @@ fn large_amplitude_energy_is_conserved() {
         "energy drift {drift:e} relative to m g d over 10 s"
     );
 }
+
+#[test]
+fn constant_torque_without_gravity_gives_uniform_angular_acceleration() {
+    let text = std::fs::read_to_string("models/pendulum.toml").unwrap_or_else(|e| panic!("{e}"))
+        + "\n[[forces]]\nname = \"motor\"\ntype = \"torque\"\nbody = \"rod\"\ntorque = 0.5\n";
+    let model = linkdyn::model::load_str(
+        &text,
+        "pendulum_torque.toml",
+        &["settings.gravity=[0.0, 0.0]".to_string()],
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let (rec, _) = run_dae(&model, 2.0, 1e-2, Method::Dop853, 1e-12, 1e-14);
+    let alpha = 0.5 / (I_CM + MASS * D * D); // τ / I_O
+    let phi = col(&rec, "rod.phi");
+    for (i, t) in rec.t.iter().enumerate() {
+        let exact = phi[0] + 0.5 * alpha * t * t;
+        // 1e-9 rad: rtol 1e-12 on an angle that grows to ~3 rad.
+        assert!(
+            (phi[i] - exact).abs() < 1e-9,
+            "t = {t}: phi = {} vs {exact}",
+            phi[i]
+        );
+    }
+}

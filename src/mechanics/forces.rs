@@ -49,22 +49,13 @@ impl AppliedForces {
                     free_length,
                     ..
                 } => {
-                    let pa = point_state(a.frame, a.local, q, v, sin_cos);
-                    let pb = point_state(b.frame, b.local, q, v, sin_cos);
-                    let d = [
-                        pb.position[0] - pa.position[0],
-                        pb.position[1] - pa.position[1],
-                    ];
-                    let length = d[0].hypot(d[1]);
-                    if length < 1e-12 {
-                        // Direction undefined with coincident points: no force, as for any
-                        // element of zero length.
+                    // Coincident points leave the direction undefined: no force, as for any
+                    // element of zero length.
+                    let Some(s) = SpringState::of(a, b, q, v, sin_cos) else {
                         continue;
-                    }
-                    let u = [d[0] / length, d[1] / length];
-                    let rate = u[0] * (pb.velocity[0] - pa.velocity[0])
-                        + u[1] * (pb.velocity[1] - pa.velocity[1]);
-                    let tension = stiffness * (length - free_length) + damping * rate;
+                    };
+                    let tension = stiffness * (s.length - free_length) + damping * s.rate;
+                    let u = s.direction;
                     // Tension pulls b towards a and a towards b.
                     add_point_force(a, [tension * u[0], tension * u[1]], q, v, sin_cos, out);
                     add_point_force(b, [-tension * u[0], -tension * u[1]], q, v, sin_cos, out);
@@ -88,18 +79,8 @@ impl AppliedForces {
                 ForceElement::SpringDamper {
                     a, b, damping: c, ..
                 } => {
-                    let pa = point_state(a.frame, a.local, q, v, sin_cos);
-                    let pb = point_state(b.frame, b.local, q, v, sin_cos);
-                    let d = [
-                        pb.position[0] - pa.position[0],
-                        pb.position[1] - pa.position[1],
-                    ];
-                    let length = d[0].hypot(d[1]);
-                    if length >= 1e-12 {
-                        let rate = (d[0] * (pb.velocity[0] - pa.velocity[0])
-                            + d[1] * (pb.velocity[1] - pa.velocity[1]))
-                            / length;
-                        damping += c * rate * rate;
+                    if let Some(s) = SpringState::of(a, b, q, v, sin_cos) {
+                        damping += c * s.rate * s.rate;
                     }
                 }
             }
@@ -123,15 +104,43 @@ impl AppliedForces {
                 ..
             } = e
             {
-                let pa = point_state(a.frame, a.local, q, &zero, sin_cos);
-                let pb = point_state(b.frame, b.local, q, &zero, sin_cos);
-                let stretch = (pb.position[0] - pa.position[0])
-                    .hypot(pb.position[1] - pa.position[1])
-                    - free_length;
+                let length = SpringState::of(a, b, q, &zero, sin_cos).map_or(0.0, |s| s.length);
+                let stretch = length - free_length;
                 u += 0.5 * stiffness * stretch * stretch;
             }
         }
         u
+    }
+}
+
+/// Length, rate of extension and unit direction (a → b) of a spring-damper.
+struct SpringState {
+    length: f64,
+    rate: f64,
+    direction: [f64; 2],
+}
+
+impl SpringState {
+    /// `None` when the two points coincide (direction undefined).
+    fn of(a: &Anchor, b: &Anchor, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> Option<Self> {
+        let pa = point_state(a.frame, a.local, q, v, sin_cos);
+        let pb = point_state(b.frame, b.local, q, v, sin_cos);
+        let d = [
+            pb.position[0] - pa.position[0],
+            pb.position[1] - pa.position[1],
+        ];
+        let length = d[0].hypot(d[1]);
+        if length < 1e-12 {
+            return None;
+        }
+        let direction = [d[0] / length, d[1] / length];
+        let rate = direction[0] * (pb.velocity[0] - pa.velocity[0])
+            + direction[1] * (pb.velocity[1] - pa.velocity[1]);
+        Some(SpringState {
+            length,
+            rate,
+            direction,
+        })
     }
 }
 

@@ -34,7 +34,7 @@
 #![allow(clippy::excessive_precision)]
 
 use super::error::SolveError;
-use super::rk::{combine, eval_rhs, scaled, weighted_sum};
+use super::rk::{StepBuffers, combine, eval_rhs, scaled, weighted_sum};
 use crate::formulation::Formulation;
 
 /// Stages of one step proper (k_0..k_11).
@@ -360,16 +360,6 @@ pub(crate) const E3: [f64; 12] = {
     }
     e
 };
-
-/// Buffers one step works in (all of length n, allocated once by the stepper).
-pub(crate) struct StepBuffers<'a> {
-    /// Stage derivatives; `k[0]` must hold f(t, y) on entry.
-    pub k: &'a mut [Vec<f64>],
-    /// Receives y_new.
-    pub y_new: &'a mut [f64],
-    /// Scratch for stage arguments.
-    pub y_stage: &'a mut [f64],
-}
 
 /// Computes stages k_1..k_11 and y_new of one step of size h from (t, y) (11 RHS calls).
 pub(crate) fn step<F: Formulation + ?Sized>(

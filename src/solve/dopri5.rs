@@ -22,7 +22,7 @@
 //!    1986 (the same continuous extension; SciPy's `RK45.P` is its power form).
 
 use super::error::SolveError;
-use super::rk::{combine, eval_rhs, scaled, weighted_sum};
+use super::rk::{StepBuffers, combine, eval_rhs, scaled, weighted_sum};
 use crate::formulation::Formulation;
 
 /// Stage vectors kept per step: 7 (k_7 is the FSAL stage).
@@ -89,16 +89,6 @@ pub(crate) const D: [f64; 7] = [
     -1453857185.0 / 822651844.0,
     69997945.0 / 29380423.0,
 ];
-
-/// Buffers one step works in (all of length n, allocated once by the stepper).
-pub(crate) struct StepBuffers<'a> {
-    /// Stage derivatives; `k[0]` must hold f(t, y) on entry.
-    pub k: &'a mut [Vec<f64>],
-    /// Receives y_new.
-    pub y_new: &'a mut [f64],
-    /// Scratch for stage arguments.
-    pub y_stage: &'a mut [f64],
-}
 
 /// Computes stages 2..7 and y_new of one step of size h from (t, y); t_new = t + h is passed
 /// separately so that the last step of a run lands exactly on t_end.

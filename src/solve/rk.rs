@@ -4,6 +4,16 @@
 use super::error::SolveError;
 use crate::formulation::Formulation;
 
+/// Buffers one step works in (all of length n, allocated once by the stepper).
+pub(crate) struct StepBuffers<'a> {
+    /// Stage derivatives; `k[0]` must hold f(t, y) on entry.
+    pub k: &'a mut [Vec<f64>],
+    /// Receives y_new.
+    pub y_new: &'a mut [f64],
+    /// Scratch for stage arguments.
+    pub y_stage: &'a mut [f64],
+}
+
 /// Evaluates dy = f(t, y), counts the call in `evals` and attaches t to a failure.
 pub(crate) fn eval_rhs<F: Formulation + ?Sized>(
     f: &F,

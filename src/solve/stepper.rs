@@ -20,7 +20,7 @@ use super::control::{Controller, Decision, InitialStep, initial_step};
 use super::error::SolveError;
 use super::events::{EventRecord, EventState};
 use super::options::{Method, SolverOptions};
-use super::rk::{eval_rhs, first_non_finite};
+use super::rk::{StepBuffers, eval_rhs, first_non_finite};
 use super::stats::SolverStats;
 use super::{dop853, dopri5};
 use crate::formulation::Formulation;
@@ -339,7 +339,7 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             }
             let err = match self.opts.method {
                 Method::Dopri5 => {
-                    let buf = dopri5::StepBuffers {
+                    let buf = StepBuffers {
                         k: &mut self.k,
                         y_new: &mut self.y_new,
                         y_stage: &mut self.y_stage,
@@ -361,7 +361,7 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                     }
                 }
                 Method::Dop853 => {
-                    let buf = dop853::StepBuffers {
+                    let buf = StepBuffers {
                         k: &mut self.k,
                         y_new: &mut self.y_new,
                         y_stage: &mut self.y_stage,
