@@ -19,5 +19,5 @@ pub enum Error {
     Output(#[from] crate::output::OutputError),
 }
 
-/// `Result` with [`Error`].
+/// `Result` with [`enum@Error`].
 pub type Result<T> = std::result::Result<T, Error>;

@@ -2,8 +2,11 @@
 //!
 //! Dynamics of planar linkages whose revolute joints may have clearance.
 //!
-//! One straight path through the crate: model file → [`model::Model`] → formulation
-//! ([`formulation::Dae`]) → integrator ([`solve::integrate`]) → samples → [`output`].
+//! One straight path through the crate: model file → [`model::Model`] ([`model::load`]) →
+//! formulation ([`formulation::Dae`] for any model, [`formulation::ReducedLagrangian`] for the
+//! reference four-bar with a clearance joint) → integrator ([`solve::integrate()`], DOPRI5 or
+//! DOP853 with event location) → sampled trajectory ([`solve::Recorder`]) → [`analysis`] and
+//! result files ([`output`]). Clearance-joint contact and friction laws are in [`contact`].
 //!
 //! ```
 //! use linkdyn::formulation::{Dae, DaeOptions, Formulation};

@@ -214,3 +214,36 @@ fn same_model_and_settings_give_identical_numbers() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_solver_failure_says_when_and_exits_with_code_3_leaving_no_files() {
+    // A crank of 0.4 m in the reference four-bar cannot turn fully: at θ2 = π the coupler and
+    // rocker are stretched into a line (0.4 + 0.8 = 0.75 + 0.45) and the driven motion cannot
+    // go on. The solver must stop there with a message, not hang or write half a file.
+    let dir = std::env::temp_dir().join(format!("linkdyn-lock-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&dir);
+    let out = dir.join("lock.csv");
+    let (code, _, stderr) = linkdyn(&[
+        "run",
+        "models/fourbar_ideal.toml",
+        "--set",
+        "bodies.crank.points.A=[0.2,0.0]",
+        "--set",
+        "bodies.crank.points.O2=[-0.2,0.0]",
+        "--set",
+        "bodies.crank.initial.x=0.2",
+        "--revs",
+        "1",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert_eq!(code, 3, "{stderr}");
+    // The toggle is at θ2 = π, i.e. t = 0.12 s at 250 rpm.
+    assert!(stderr.starts_with("error: step size h = "), "{stderr}");
+    assert!(stderr.contains("at t = 0.1199"), "{stderr}");
+    assert!(
+        !out.exists() && !dir.join("lock.json").exists(),
+        "no partial result files"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -33,7 +33,7 @@ pub enum SolveError {
     /// the solution is (nearly) discontinuous there or the problem is too stiff for an explicit
     /// method.
     #[error(
-        "step size h = {h:.3e} s at t = {t:.9} s is below the resolution of t (a discontinuity or a stiff contact; loosen rtol/atol or check the model)"
+        "step size h = {h:.3e} s at t = {t:.9} s is below the resolution of t (a discontinuity, a stiff contact or a singular position of the linkage such as a toggle; check the model, or loosen rtol/atol)"
     )]
     StepTooSmall {
         /// Time reached (s).
