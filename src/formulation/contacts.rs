@@ -10,6 +10,7 @@
 use crate::contact::laws::penetration_power;
 use crate::contact::{
     CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, free_flight_max_step,
+    impact_velocity,
 };
 use crate::mechanics::planar::{PointState, cross, perp, point_state};
 use crate::model::{Anchor, Frame, JointId, JointKind, Model};
@@ -81,6 +82,23 @@ impl ContactSites {
         &self.sites
     }
 
+    /// Centres and relative kinematics of joint `k` at (q, q̇), without forces.
+    fn site_kinematics(
+        &self,
+        k: usize,
+        q: &[f64],
+        v: &[f64],
+        sin_cos: &[(f64, f64)],
+    ) -> (PointState, PointState, ContactKinematics) {
+        let site = &self.sites[k];
+        let bearing = point_state(site.bearing.frame, site.bearing.local, q, v, sin_cos);
+        let journal = point_state(site.journal.frame, site.journal.local, q, v, sin_cos);
+        let kinematics = site
+            .contact
+            .kinematics(&CentreMotion::from(bearing), &CentreMotion::from(journal));
+        (bearing, journal, kinematics)
+    }
+
     /// State of joint `k` at (q, q̇) with the stored impact velocity `stored` (0 = none).
     pub fn site_state(
         &self,
@@ -90,21 +108,13 @@ impl ContactSites {
         sin_cos: &[(f64, f64)],
         stored: f64,
     ) -> SiteState {
-        let site = &self.sites[k];
-        let bearing = point_state(site.bearing.frame, site.bearing.local, q, v, sin_cos);
-        let journal = point_state(site.journal.frame, site.journal.local, q, v, sin_cos);
-        let kinematics = site
-            .contact
-            .kinematics(&CentreMotion::from(bearing), &CentreMotion::from(journal));
+        let (bearing, journal, kinematics) = self.site_kinematics(k, q, v, sin_cos);
         // No contact work while free; a stage past a contact onset that is not yet located has
         // no stored δ̇⁽⁻⁾ and uses the current δ̇, its value at the onset to first order.
         let forces = if kinematics.delta > 0.0 {
-            let impact = if stored > 0.0 {
-                stored
-            } else {
-                kinematics.delta_dot
-            };
-            site.contact.forces(&kinematics, impact)
+            self.sites[k]
+                .contact
+                .forces(&kinematics, impact_velocity(stored, kinematics.delta_dot))
         } else {
             ContactForces::default()
         };
@@ -167,7 +177,7 @@ impl ContactSites {
     pub fn elastic_energy(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> f64 {
         let mut energy = 0.0;
         for (k, site) in self.sites.iter().enumerate() {
-            let delta = self.site_state(k, q, v, sin_cos, 0.0).kinematics.delta;
+            let delta = self.site_kinematics(k, q, v, sin_cos).2.delta;
             if delta > 0.0 {
                 let law = &site.contact.law;
                 energy += law.stiffness * delta.powf(law.exponent + 1.0) / (law.exponent + 1.0);
@@ -179,7 +189,7 @@ impl ContactSites {
     /// Event functions: δ of every joint.
     pub fn events_into(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)], g: &mut [f64]) {
         for (k, gk) in g.iter_mut().enumerate().take(self.sites.len()) {
-            *gk = self.site_state(k, q, v, sin_cos, 0.0).kinematics.delta;
+            *gk = self.site_kinematics(k, q, v, sin_cos).2.delta;
         }
     }
 
@@ -188,16 +198,16 @@ impl ContactSites {
     pub fn max_step(&self, q: &[f64], v: &[f64], acc: &[f64], sin_cos: &[(f64, f64)]) -> f64 {
         let mut h = f64::INFINITY;
         for (k, site) in self.sites.iter().enumerate() {
-            let s = self.site_state(k, q, v, sin_cos, 0.0);
-            if in_contact(&s.kinematics) {
+            let (bearing, journal, kinematics) = self.site_kinematics(k, q, v, sin_cos);
+            if in_contact(&kinematics) {
                 continue;
             }
-            let a_j = point_acceleration(site.journal.frame, s.journal, acc);
-            let a_b = point_acceleration(site.bearing.frame, s.bearing, acc);
+            let a_j = point_acceleration(site.journal.frame, journal, acc);
+            let a_b = point_acceleration(site.bearing.frame, bearing, acc);
             let rel = (a_j[0] - a_b[0]).hypot(a_j[1] - a_b[1]);
             h = h.min(free_flight_max_step(
-                s.kinematics.delta,
-                s.kinematics.relative_speed(),
+                kinematics.delta,
+                kinematics.relative_speed(),
                 rel,
                 site.contact.clearance,
             ));
