@@ -143,11 +143,21 @@ fn bad_set_overrides_are_refused_with_exit_code_2() {
         "bodies.crank.mass=-1",
     ]);
     assert_eq!(code, 2);
-    assert!(
-        stderr.contains(
-            "bodies.crank.mass: expected a positive mass (kg), found -1 (after --set overrides)"
-        ),
-        "{stderr}"
+    // Located in the file where the overridden field stands, and naming the override.
+    assert_eq!(
+        stderr.trim_end(),
+        "error: models/fourbar_ideal.toml:17:8: bodies.crank.mass: expected a positive mass (kg), found -1 (value from --set bodies.crank.mass=-1)"
+    );
+    let (code, _, stderr) = linkdyn(&[
+        "check",
+        "models/fourbar_ideal.toml",
+        "--set",
+        "bodies.crank.colour=red",
+    ]);
+    assert_eq!(code, 2);
+    assert_eq!(
+        stderr.trim_end(),
+        "error: models/fourbar_ideal.toml: bodies.crank.colour: unknown field `colour`, expected one of `name`, `mass`, `inertia`, `points`, `initial` (value from --set bodies.crank.colour=red)"
     );
 }
 

@@ -46,23 +46,43 @@ pub enum ModelError {
 }
 
 impl ModelError {
-    /// Marks an error found after `--set` overrides were applied: its line and column refer to
-    /// the file as overridden, which is the same as the file except on overridden lines.
-    pub(crate) fn after_overrides(self) -> Self {
+    /// Re-locates an error found after `--set` overrides were applied: its line and column
+    /// refer to the re-serialised document, so they are replaced by those of the same field in
+    /// the original `text` (or dropped if the field is not in the file), and the message says
+    /// which override set the value.
+    pub(crate) fn after_overrides(self, text: &str, overrides: &[String]) -> Self {
         match self {
             ModelError::Invalid {
                 file,
-                line,
-                column,
                 field,
                 message,
-            } => ModelError::Invalid {
-                file,
-                line,
-                column,
-                field,
-                message: format!("{message} (after --set overrides)"),
-            },
+                ..
+            } => {
+                let from_set = overrides
+                    .iter()
+                    .rev()
+                    .find(|o| o.split_once('=').is_some_and(|(k, _)| k.trim() == field));
+                let message = match from_set {
+                    Some(o) => format!("{message} (value from --set {o})"),
+                    None => format!("{message} (after --set overrides)"),
+                };
+                match super::locate::span_of_path(text, &field) {
+                    Some(offset) => {
+                        let (line, column) = super::locate::line_column(text, offset);
+                        ModelError::Invalid {
+                            file,
+                            line,
+                            column,
+                            field,
+                            message,
+                        }
+                    }
+                    None => ModelError::WholeFile {
+                        file,
+                        message: format!("{field}: {message}"),
+                    },
+                }
+            }
             other => other,
         }
     }

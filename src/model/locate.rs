@@ -71,6 +71,20 @@ pub fn field_path(text: &str, offset: usize) -> String {
         .map_or_else(|| "(file)".to_string(), |e| e.path.clone())
 }
 
+/// Byte offset of the value of the field with dotted `path` (as [`field_path`] names it) in
+/// `text`, if the file has that field.
+pub fn span_of_path(text: &str, path: &str) -> Option<usize> {
+    let doc = DeTable::parse(text).ok()?;
+    let mut entries = Vec::new();
+    walk_table(doc.get_ref(), "", &mut entries);
+    // The value's span comes after the key's; prefer it.
+    entries
+        .iter()
+        .filter(|e| e.path == path)
+        .map(|e| e.span.start)
+        .max()
+}
+
 struct Entry {
     span: Range<usize>,
     path: String,

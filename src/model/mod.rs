@@ -36,7 +36,7 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Model, M
     } else {
         let patched = overrides::apply(text, file, overrides)?;
         (
-            file::parse(&patched, file).map_err(|e| e.after_overrides())?,
+            file::parse(&patched, file).map_err(|e| e.after_overrides(text, overrides))?,
             Some(patched),
         )
     };
@@ -48,7 +48,7 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Model, M
     let located = locate::Locator::new(effective_text.as_deref().unwrap_or(text), file);
     build::build(raw, source, &located).map_err(|e| {
         if effective_text.is_some() {
-            e.after_overrides()
+            e.after_overrides(text, overrides)
         } else {
             e
         }
