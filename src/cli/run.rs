@@ -75,6 +75,9 @@ pub struct RunArgs {
     out: PathBuf,
 }
 
+/// Most output samples one run may keep (each is a row of the CSV).
+const MAX_SAMPLES: f64 = 1e8;
+
 /// Settings resolved from [`SolveArgs`] and the model.
 #[derive(Debug, Clone)]
 pub struct RunSettings {
@@ -94,6 +97,15 @@ impl RunSettings {
             return Err(Failure::bad_input(format!(
                 "--dt: expected a positive time step, got {}",
                 args.dt
+            )));
+        }
+        // Every sample is kept in memory until the files are written: refuse runs that could
+        // not fit rather than exhaust the machine.
+        let samples = t_end / args.dt;
+        if samples > MAX_SAMPLES {
+            return Err(Failure::bad_input(format!(
+                "--dt {:e} s over {:e} s asks for {samples:.3e} samples; at most {MAX_SAMPLES:e} are allowed: raise --dt",
+                args.dt, t_end
             )));
         }
         let method: Method = args

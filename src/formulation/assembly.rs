@@ -172,6 +172,10 @@ pub fn assemble(
 /// The minimum-norm correction of `guess` onto Φ_q q̇ = −Φ_t, and the largest residual
 /// |Φ_q q̇ + Φ_t| left (non-zero where the rows are inconsistent).
 fn project_velocities(jac: &DMatrix<f64>, phi_t: &[f64], guess: &DVector<f64>) -> (Vec<f64>, f64) {
+    if jac.nrows() == 0 {
+        // No constraints (free bodies only): the guess is consistent.
+        return (guess.iter().copied().collect(), 0.0);
+    }
     let phi_t = DVector::from_column_slice(phi_t);
     let defect = jac * guess + &phi_t;
     let svd = jac.clone().svd(true, true);
