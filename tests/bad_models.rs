@@ -257,3 +257,31 @@ fn a_solver_failure_says_when_and_exits_with_code_3_leaving_no_files() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_linkage_driven_through_its_clearance_joint_stops_with_the_reason() {
+    // Moving the crank's pivot point 1 m off its axis makes the reference four-bar unable to
+    // turn: the driver pushes the journal through the bearing. Trial stages of too-large steps
+    // that overshoot are retried smaller; only a real penetration beyond 0.1 R_J stops the run.
+    let dir = std::env::temp_dir().join(format!("linkdyn-deep-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&dir);
+    let out = dir.join("deep.csv");
+    let (code, _, stderr) = linkdyn(&[
+        "run",
+        "models/farahan2016.toml",
+        "--set",
+        "bodies.crank.points.O2=[-0.125,-1.0]",
+        "--revs",
+        "0.05",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert_eq!(code, 3, "{stderr}");
+    assert!(
+        stderr.contains("penetration of clearance joint \"B\" reached")
+            && stderr.contains("the linkage is being driven through the joint"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "no partial result file");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -50,6 +50,9 @@ pub struct SolveArgs {
     /// Integration method: dop853 (8th order) or dopri5 (5th order).
     #[arg(long, default_value = "dop853")]
     pub method: String,
+    /// Most step attempts before the solver gives up (with the time it reached).
+    #[arg(long, default_value_t = 10_000_000)]
+    pub max_steps: u64,
     /// Override a model field: dotted path, array entries by name (repeatable), e.g.
     /// `--set drivers.motor.speed_rpm=3500`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -116,6 +119,7 @@ impl RunSettings {
             .method(method)
             .rtol(args.rtol)
             .atol(args.atol)
+            .max_steps(args.max_steps)
             .build()
             .map_err(|e| Failure::bad_input(e.to_string()))?;
         Ok(RunSettings {

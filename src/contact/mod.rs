@@ -94,6 +94,12 @@ impl ClearanceJoint {
         }
     }
 
+    /// Deepest penetration any contact law here is used at: a tenth of the journal radius (m).
+    /// Hertzian contact assumes δ ≪ R; far beyond it the force is meaningless.
+    pub fn max_penetration(&self) -> f64 {
+        0.1 * self.journal_radius
+    }
+
     /// Bearing radius R_B = R_J + c (m).
     pub fn bearing_radius(&self) -> f64 {
         self.journal_radius + self.clearance

@@ -7,6 +7,7 @@
 //! pure function of (t, y): every sample, restart and clone sees the δ̇⁽⁻⁾ that was valid at its
 //! time, and the same run gives the same numbers.
 
+use super::FormulationError;
 use crate::contact::laws::penetration_power;
 use crate::contact::{
     CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, free_flight_max_step,
@@ -128,16 +129,20 @@ impl ContactSites {
 
     /// Adds every joint's contact forces and moments to Q (`out`, 3 per body). Returns the
     /// rate at which the contacts dissipate energy (W, ≥ 0: hysteresis damping and friction),
-    /// computed only when `dissipation` is asked for (0 otherwise).
+    /// computed only when `dissipation` is asked for (0 otherwise). Fails where a penetration
+    /// exceeds [`ClearanceJoint::max_penetration`]; `joint_name` names joint k for that message.
+    #[allow(clippy::too_many_arguments)] // one state, split the way the DAE stores it
     pub fn add_forces_into(
         &self,
+        t: f64,
         q: &[f64],
         v: &[f64],
         sin_cos: &[(f64, f64)],
         stored: &[f64],
         out: &mut [f64],
         dissipation: bool,
-    ) -> f64 {
+        joint_name: impl Fn(JointId) -> String,
+    ) -> Result<f64, FormulationError> {
         let mut dissipated = 0.0;
         for k in 0..self.sites.len() {
             let s = self.site_state(k, q, v, sin_cos, stored[k]);
@@ -145,6 +150,15 @@ impl ContactSites {
                 continue;
             }
             let site = &self.sites[k];
+            let limit = site.contact.max_penetration();
+            if s.kinematics.delta > limit {
+                return Err(FormulationError::PenetrationTooDeep {
+                    t,
+                    joint: joint_name(site.joint),
+                    penetration: s.kinematics.delta,
+                    limit,
+                });
+            }
             if dissipation {
                 // Power of the contact forces −F_N δ̇ + F_T v_t minus its elastic part −K δⁿ δ̇.
                 let law = &site.contact.law;
@@ -170,7 +184,7 @@ impl ContactSites {
                 out,
             );
         }
-        dissipated
+        Ok(dissipated)
     }
 
     /// Elastic energy stored in the contacts, Σ K δⁿ⁺¹/(n + 1) over the joints in contact (J).

@@ -222,13 +222,15 @@ impl Dae {
             0.0
         } else {
             self.contacts.add_forces_into(
+                t,
                 q,
                 v,
                 &work.sin_cos,
                 &stored[..self.contacts.len()],
                 &mut work.forces,
                 self.energy,
-            )
+                |j| self.model.joint(j).name.clone(),
+            )?
         };
         self.constraints
             .evaluate_into(t, q, v, &work.sin_cos, &mut work.constraints);

@@ -129,6 +129,21 @@ pub enum FormulationError {
         /// Which quantity ("position", "velocity", "acceleration").
         what: String,
     },
+    /// A clearance joint penetrated so deep that no contact law holds: the linkage is being
+    /// driven through the joint (a model that cannot move as built, or absurd forces).
+    #[error(
+        "penetration of clearance joint \"{joint}\" reached {penetration:.3e} m at t = {t:.9} s, beyond {limit:.3e} m (a tenth of the journal radius) where no contact law holds: the linkage is being driven through the joint; check its geometry, driver and loads"
+    )]
+    PenetrationTooDeep {
+        /// Time (s).
+        t: f64,
+        /// Joint name.
+        joint: String,
+        /// Penetration δ (m).
+        penetration: f64,
+        /// The limit 0.1 R_J (m).
+        limit: f64,
+    },
     /// The model does not fit this formulation.
     #[error("{formulation} formulation: {reason}")]
     Unsupported {
@@ -137,4 +152,13 @@ pub enum FormulationError {
         /// What it requires and what the model has.
         reason: String,
     },
+}
+
+impl FormulationError {
+    /// True for errors that a trial state of a too-large step can cause and a smaller step may
+    /// avoid (a stage that overshoots into a contact). The integrators then reject the step and
+    /// retry with a smaller one, and report the error only when no step size avoids it.
+    pub fn is_recoverable(&self) -> bool {
+        matches!(self, FormulationError::PenetrationTooDeep { .. })
+    }
 }

@@ -722,6 +722,14 @@ impl ReducedLagrangian {
         let g = self.gravity;
         let c = self.chain(t, y);
         let kin = self.joint_kinematics(&c);
+        if kin.delta > self.joint.max_penetration() {
+            return Err(FormulationError::PenetrationTooDeep {
+                t,
+                joint: self.joint_name.clone(),
+                penetration: kin.delta,
+                limit: self.joint.max_penetration(),
+            });
+        }
         let forces = self
             .joint
             .forces(&kin, impact_velocity(stored, kin.delta_dot));

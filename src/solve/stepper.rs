@@ -317,6 +317,9 @@ impl<'a, F: Formulation> Stepper<'a, F> {
         let cap = cap_other.min(remaining);
         let mut h = self.opts.fixed_step.unwrap_or(self.h_next).min(cap);
         let mut non_finite: Option<usize> = None;
+        // The last recoverable failure of a trial stage (see `FormulationError::is_recoverable`):
+        // reported if the step cannot shrink any further.
+        let mut recoverable: Option<SolveError> = None;
         let (rtol, atol) = (self.opts.rtol, self.opts.atol);
         loop {
             let attempts = self.stats.steps + self.stats.rejected;
@@ -328,9 +331,10 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                 h = remaining;
             }
             if !(h >= floor && h > 0.0) {
-                return Err(match non_finite {
-                    Some(component) => SolveError::NonFinite { t, component },
-                    None => SolveError::StepTooSmall { t, h },
+                return Err(match (recoverable, non_finite) {
+                    (Some(e), _) => e,
+                    (None, Some(component)) => SolveError::NonFinite { t, component },
+                    (None, None) => SolveError::StepTooSmall { t, h },
                 });
             }
             let t_new = if last { self.t_end } else { t + h };
@@ -344,7 +348,7 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                         y_new: &mut self.y_new,
                         y_stage: &mut self.y_stage,
                     };
-                    dopri5::step(
+                    let stages = dopri5::step(
                         &*self.f,
                         t,
                         h,
@@ -352,7 +356,12 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                         &self.y,
                         buf,
                         &mut self.stats.rhs_evals,
-                    )?;
+                    );
+                    if let Some(e) = self.retry_on_recoverable(stages)? {
+                        recoverable = Some(e);
+                        h = (0.25 * h).min(cap);
+                        continue;
+                    }
                     if self.opts.fixed_step.is_some() {
                         0.0
                     } else {
@@ -366,7 +375,13 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                         y_new: &mut self.y_new,
                         y_stage: &mut self.y_stage,
                     };
-                    dop853::step(&*self.f, t, h, &self.y, buf, &mut self.stats.rhs_evals)?;
+                    let stages =
+                        dop853::step(&*self.f, t, h, &self.y, buf, &mut self.stats.rhs_evals);
+                    if let Some(e) = self.retry_on_recoverable(stages)? {
+                        recoverable = Some(e);
+                        h = (0.25 * h).min(cap);
+                        continue;
+                    }
                     if self.opts.fixed_step.is_some() {
                         0.0
                     } else {
@@ -398,13 +413,18 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                 });
             }
             if self.opts.method == Method::Dop853 {
-                dop853::fsal(
+                let end = dop853::fsal(
                     &*self.f,
                     t_new,
                     &self.y_new,
                     &mut self.k,
                     &mut self.stats.rhs_evals,
-                )?;
+                );
+                if let Some(e) = self.retry_on_recoverable(end)? {
+                    recoverable = Some(e);
+                    h = (0.25 * h).min(cap);
+                    continue;
+                }
             }
             let fsal = match self.opts.method {
                 Method::Dopri5 => dopri5::FSAL,
@@ -561,6 +581,24 @@ impl<'a, F: Formulation> Stepper<'a, F> {
     #[must_use]
     pub fn stats(&self) -> &SolverStats {
         &self.stats
+    }
+
+    /// Turns a recoverable stage failure into a rejected step (`Ok(Some(error))`: retry smaller),
+    /// passes success through (`Ok(None)`) and other failures on (`Err`).
+    fn retry_on_recoverable(
+        &mut self,
+        stages: Result<(), SolveError>,
+    ) -> Result<Option<SolveError>, SolveError> {
+        match stages {
+            Ok(()) => Ok(None),
+            Err(SolveError::Formulation { t, source })
+                if source.is_recoverable() && self.opts.fixed_step.is_none() =>
+            {
+                self.stats.rejected += 1;
+                Ok(Some(SolveError::Formulation { t, source }))
+            }
+            Err(e) => Err(e),
+        }
     }
 
     /// The formulation being integrated.
