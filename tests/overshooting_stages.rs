@@ -35,10 +35,11 @@ fn overshooting_stages_are_retried_not_fatal() {
         assert!(stats.rejected > 0, "{method}: no rejected step");
         let delta = rec.column("B.delta").unwrap_or_default();
         let deepest = delta.iter().fold(f64::NEG_INFINITY, |m, d| m.max(*d));
-        // Accepted states stay far from the limit (1e-3 m): real penetrations are ~1e-5 m.
+        // Accepted states stay within the contact laws' range (0.1 R_J = 1e-3 m), and the run
+        // did reach contact.
         assert!(
-            deepest < 1e-4,
-            "{method}: penetration {deepest} m in an accepted state"
+            deepest > 0.0 && deepest < 1e-3,
+            "{method}: deepest penetration {deepest} m"
         );
     }
 }
