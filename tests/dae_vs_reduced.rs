@@ -88,3 +88,59 @@ fn reduced_formulation_refuses_another_topology_with_a_clear_reason() {
         )
     );
 }
+
+#[test]
+fn compare_command_prints_and_writes_the_differences() {
+    let dir = std::env::temp_dir().join(format!("linkdyn-compare-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&dir);
+    let json = dir.join("cmp.json");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_linkdyn"))
+        .args([
+            "compare",
+            "models/farahan2016.toml",
+            "--revs",
+            "0.25",
+            "--rtol",
+            "1e-10",
+            "--atol",
+            "1e-13",
+        ])
+        .arg("--out")
+        .arg(&json)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for column in [
+        "coupler.phi",
+        "rocker.phi",
+        "B.ex",
+        "B.ey",
+        "B.fn",
+        "motor.torque",
+    ] {
+        assert!(stdout.contains(column), "{column} missing from:\n{stdout}");
+    }
+    let text = std::fs::read_to_string(&json).unwrap_or_default();
+    let report: serde_json::Value =
+        serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}"));
+    let comparison = &report["comparison"];
+    let a = comparison["impacts_a"][0].as_u64().unwrap_or(0);
+    assert!(
+        a > 0 && Some(a) == comparison["impacts_b"][0].as_u64(),
+        "impact counts: {comparison}"
+    );
+    let theta3 = comparison["columns"]
+        .as_array()
+        .and_then(|c| c.iter().find(|c| c["column"] == "coupler.phi"))
+        .and_then(|c| c["max_abs_difference"].as_f64())
+        .unwrap_or(f64::INFINITY);
+    assert!(theta3 < 1e-6, "theta3 difference {theta3}");
+    assert!(report["provenance"]["linkdyn_version"].is_string());
+    let _ = std::fs::remove_dir_all(&dir);
+}
