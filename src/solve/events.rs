@@ -222,16 +222,20 @@ impl<F: Formulation> Stepper<'_, F> {
         self.ev.g_tmp.get(i).copied().unwrap_or(0.0)
     }
 
-    /// g on the dense output at time t into `g_tmp` (dense output must be ready).
-    fn event_vector(&mut self, t: f64) {
-        let theta = if self.h_step > 0.0 {
+    /// Position θ = (t − t_old)/h of `t` inside the last step (0 for an empty step).
+    pub(super) fn theta_of(&self, t: f64) -> f64 {
+        if self.h_step > 0.0 {
             (t - self.t_old) / self.h_step
         } else {
             0.0
-        };
+        }
+    }
+
+    /// g on the dense output at time t into `g_tmp` (dense output must be ready).
+    fn event_vector(&mut self, t: f64) {
         eval_dense(
             self.opts.method,
-            theta,
+            self.theta_of(t),
             &self.y_old,
             &self.dense,
             &mut self.ev.y_tmp,
@@ -372,14 +376,9 @@ impl<F: Formulation> Stepper<'_, F> {
             self.ev.y_before.copy_from_slice(&self.ev.y_after);
         } else {
             self.ensure_dense()?;
-            let theta = if self.h_step > 0.0 {
-                (t_ev - self.t_old) / self.h_step
-            } else {
-                0.0
-            };
             eval_dense(
                 self.opts.method,
-                theta,
+                self.theta_of(t_ev),
                 &self.y_old,
                 &self.dense,
                 &mut self.ev.y_before,

@@ -341,54 +341,30 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             if let Some(k0) = self.k.first_mut() {
                 k0.copy_from_slice(&self.dy);
             }
-            let err = match self.opts.method {
-                Method::Dopri5 => {
-                    let buf = StepBuffers {
-                        k: &mut self.k,
-                        y_new: &mut self.y_new,
-                        y_stage: &mut self.y_stage,
-                    };
-                    let stages = dopri5::step(
-                        &*self.f,
-                        t,
-                        h,
-                        t_new,
-                        &self.y,
-                        buf,
-                        &mut self.stats.rhs_evals,
-                    );
-                    if let Some(e) = self.retry_on_recoverable(stages)? {
-                        recoverable = Some(e);
-                        h = (0.25 * h).min(cap);
-                        continue;
-                    }
-                    if self.opts.fixed_step.is_some() {
-                        0.0
-                    } else {
-                        let tol = (rtol, atol);
-                        dopri5::error_norm(h, &self.y, &self.y_new, &self.k, tol, &mut self.scratch)
-                    }
+            let buf = StepBuffers {
+                k: &mut self.k,
+                y_new: &mut self.y_new,
+                y_stage: &mut self.y_stage,
+            };
+            let evals = &mut self.stats.rhs_evals;
+            let stages = match self.opts.method {
+                Method::Dopri5 => dopri5::step(&*self.f, t, h, t_new, &self.y, buf, evals),
+                Method::Dop853 => dop853::step(&*self.f, t, h, &self.y, buf, evals),
+            };
+            if let Some(e) = self.retry_on_recoverable(stages)? {
+                recoverable = Some(e);
+                h = (0.25 * h).min(cap);
+                continue;
+            }
+            let tol = (rtol, atol);
+            let err = match (self.opts.fixed_step, self.opts.method) {
+                (Some(_), _) => 0.0,
+                (None, Method::Dopri5) => {
+                    dopri5::error_norm(h, &self.y, &self.y_new, &self.k, tol, &mut self.scratch)
                 }
-                Method::Dop853 => {
-                    let buf = StepBuffers {
-                        k: &mut self.k,
-                        y_new: &mut self.y_new,
-                        y_stage: &mut self.y_stage,
-                    };
-                    let stages =
-                        dop853::step(&*self.f, t, h, &self.y, buf, &mut self.stats.rhs_evals);
-                    if let Some(e) = self.retry_on_recoverable(stages)? {
-                        recoverable = Some(e);
-                        h = (0.25 * h).min(cap);
-                        continue;
-                    }
-                    if self.opts.fixed_step.is_some() {
-                        0.0
-                    } else {
-                        let tol = (rtol, atol);
-                        let scratch = (&mut self.scratch[..], &mut self.y_stage[..]);
-                        dop853::error_norm(h, &self.y, &self.y_new, &self.k, tol, scratch)
-                    }
+                (None, Method::Dop853) => {
+                    let scratch = (&mut self.scratch[..], &mut self.y_stage[..]);
+                    dop853::error_norm(h, &self.y, &self.y_new, &self.k, tol, scratch)
                 }
             };
             let h_next = if self.opts.fixed_step.is_some() {
@@ -515,8 +491,13 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             return Ok(());
         }
         self.ensure_dense()?;
-        let theta = (t - self.t_old) / self.h_step;
-        eval_dense(self.opts.method, theta, &self.y_old, &self.dense, out);
+        eval_dense(
+            self.opts.method,
+            self.theta_of(t),
+            &self.y_old,
+            &self.dense,
+            out,
+        );
         Ok(())
     }
 
