@@ -2,4 +2,6 @@
 
 pub mod compare;
 
-pub use compare::{ColumnDifference, Comparison, compare};
+pub use compare::{
+    ColumnDifference, Comparison, FormulationComparison, Sampled, compare, compare_formulations,
+};
