@@ -293,6 +293,42 @@ fn sigterm_or_sigint_mid_run_leaves_nothing_but_the_earlier_pair() {
 }
 
 #[test]
+fn a_signal_between_distant_samples_still_leaves_nothing() {
+    // Samples 100 s apart (minutes of integration between them): the sink cannot see the
+    // signal in time, so the handler removes the scratch files itself after its 2 s grace.
+    let dir = scratch("sparse");
+    let csv = dir.join("r.csv");
+    let mut child = Command::new(BIN)
+        .args([
+            "run",
+            "models/farahan2016.toml",
+            "--t-end",
+            "1000",
+            "--dt",
+            "100",
+        ])
+        .arg("--out")
+        .arg(&csv)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let temp = dir.join(format!("r.csv.{}.tmp", child.id()));
+    wait_for(&temp, 0, &mut child);
+    std::thread::sleep(Duration::from_millis(200));
+    signal(&child, "TERM");
+    let (code, stderr) = finish(child);
+    assert_eq!(code, Some(130), "{stderr}");
+    assert_eq!(
+        stderr.trim_end(),
+        "error: interrupted; no result files were written"
+    );
+    assert!(entries(&dir).is_empty(), "left: {:?}", entries(&dir));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn a_second_run_on_the_same_out_is_refused_while_the_first_writes() {
     let dir = scratch("busy");
     let csv = dir.join("r.csv");

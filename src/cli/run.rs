@@ -43,6 +43,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         .energy(args.energy);
     let sim = Simulation::new(&model, options).map_err(|e| in_model(&args.model, e))?;
     let mut pair = ResultPair::begin(&args.out, Some(&args.model))?;
+    interrupt::remove_on_abort(pair.scratch_paths());
     let provenance = sim.provenance();
     let label = args.out.display().to_string();
     let result = {
@@ -59,6 +60,10 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         return Err(Failure::interrupted());
     }
     let summary = result?;
+    if !interrupt::begin_commit() {
+        drop(pair);
+        return Err(Failure::interrupted());
+    }
     pair.commit(&summary)?;
     let impacts: usize = summary.clearance_joints.iter().map(|c| c.impacts).sum();
     let stats = &summary.solver_stats;

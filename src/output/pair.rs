@@ -57,6 +57,25 @@ impl ResultPair {
         &self.json
     }
 
+    /// Every scratch file this pair may create besides its targets: the two temporary files,
+    /// the lock file and the backup of the earlier CSV. For a signal handler that must clean up
+    /// when the writing thread cannot.
+    pub fn scratch_paths(&self) -> Vec<PathBuf> {
+        let with = |p: &Path, suffix: String| {
+            let mut s = p.as_os_str().to_owned();
+            s.push(suffix);
+            PathBuf::from(s)
+        };
+        let pid = std::process::id();
+        let csv = self.csv.target();
+        vec![
+            self.csv.temp_path().to_path_buf(),
+            with(&self.json, format!(".{pid}.tmp")),
+            with(csv, format!(".{pid}.old")),
+            OutputLock::path_for(csv),
+        ]
+    }
+
     /// Writes `summary` as pretty JSON and makes both files appear.
     pub fn commit<T: Serialize>(self, summary: &T) -> Result<(), OutputError> {
         self.commit_with(summary, |_| Ok(()))
