@@ -55,8 +55,8 @@ enum Built {
     Reduced(Box<ReducedLagrangian>),
 }
 
-/// A model with validated settings, ready to run (any number of times, from any thread that
-/// owns a clone).
+/// A model with validated settings, ready to run any number of times. `Send` but not `Sync`
+/// (the DAE keeps scratch space in a `RefCell`): give each thread its own clone.
 #[derive(Debug, Clone)]
 pub struct Simulation {
     model: Model,

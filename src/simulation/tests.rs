@@ -192,3 +192,16 @@ fn a_streamed_run_has_the_summary_of_a_run_in_memory() {
         "turns at t_end"
     );
 }
+
+#[test]
+fn simulations_and_trajectories_can_cross_threads() {
+    // Parameter sweeps move one simulation into each thread and send the results back; the
+    // Python bindings release the GIL around a run. Both need these bounds (a compile-time
+    // check). A simulation is Send, not Sync: the DAE keeps scratch space in a RefCell, so
+    // threads each take a clone.
+    fn send<T: Send>() {}
+    fn send_sync<T: Send + Sync>() {}
+    send::<Simulation>();
+    send_sync::<Trajectory>();
+    send_sync::<RunSummary>();
+}
