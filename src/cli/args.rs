@@ -28,7 +28,7 @@ pub struct SolveArgs {
     #[arg(long, default_value = "dop853")]
     pub method: String,
     /// Most step attempts before the solver gives up (with the time it reached).
-    #[arg(long, default_value_t = 10_000_000)]
+    #[arg(long, default_value_t = 10_000_000, allow_negative_numbers = true)]
     pub max_steps: u64,
     /// Override a model field: dotted path, array entries by name (repeatable), e.g.
     /// `--set drivers.motor.speed_rpm=3500`.
