@@ -146,7 +146,7 @@ const CASES: &[(&str, &str)] = &[
     ),
     (
         "stiffness_absurd",
-        "tests/bad_models/stiffness_absurd.toml:24:13: joints.C.stiffness: expected a contact stiffness K (N/m^n) in [1e3, 1e18] (the range the material and size bounds give), found 1e30",
+        "tests/bad_models/stiffness_absurd.toml:24:13: joints.C.stiffness: expected a contact stiffness K (N/m^n) in [1e2, 1e18] (the range the material and size bounds give), found 1e30",
     ),
     (
         "syntax_error",

@@ -5,6 +5,15 @@
 //! `contact/` and rigid-body mechanics describe, and letting them through gives overflow, a run
 //! that never ends, or numbers that look fine and mean nothing. Every bound is wide enough for
 //! every real linkage from MEMS to heavy machinery.
+//!
+//! Ranges that follow from the laws themselves are checked in `build.rs` where the value is read:
+//! every number finite; Poisson ratio ν ∈ (−1, 0.5) (a stable isotropic solid; ν = −1 makes the
+//! compliance σ = (1 − ν²)/E vanish and K infinite); coefficient of restitution c_r ∈ (0, 1], none
+//! for the purely elastic Hertz law (or exactly 1), at least [`MIN_FLORES_RESTITUTION`] for the
+//! Flores law; contact exponent n ∈ [1, 3]; friction coefficient c_f ≥ 0 and 0 ≤ v0 < v1; initial
+//! eccentricity |e0| < c (strictly: a contact under way at t = 0 has no impact velocity δ̇⁽⁻⁾ to
+//! scale its damping; such a run on the reference four-bar made no impact and did not finish in
+//! 1e7 steps, `docs/measurements.md`); clearance c < journal radius R_J.
 
 /// Smallest body mass (kg): a 1 µm steel cube weighs 7.9e-15 kg. Below this nothing is a rigid
 /// link, and the inverse mass 1/m that the formulations use grows without bound (1e300 at the
@@ -24,8 +33,8 @@ pub const MAX_JOURNAL_RADIUS: f64 = 10.0;
 
 /// Smallest radial clearance c (m): 1 nm, the roughness of the best polished surfaces; below it
 /// a rigid-surface contact between journal and bearing means nothing. (The largest clearance is
-/// the journal radius itself: see `build.rs`, a bearing of more than twice the journal's radius
-/// is not a joint.)
+/// the journal radius itself, checked where both are known: a bearing of more than twice the
+/// journal's radius is not a joint with clearance.)
 pub const MIN_CLEARANCE: f64 = 1e-9;
 
 /// Smallest Young's modulus E (Pa): soft rubber and silicone, about 1 MPa.
@@ -38,7 +47,7 @@ pub const MAX_YOUNGS_MODULUS: f64 = 1.2e12;
 /// √(R_J R_B/c) with σ = (1 − ν²)/E: materials and geometry within the bounds above (ν from 0
 /// to 0.5) give K from 9.4e2 (E = 1 MPa, c → R_J = 1 µm) to 3.4e17 (E = 1.2 TPa, ν → 0.5, R_J = 10 m,
 /// c = 1 nm); the bounds are that range rounded outward to a decade.
-pub const MIN_STIFFNESS: f64 = 1e3;
+pub const MIN_STIFFNESS: f64 = 1e2;
 
 /// Largest generalised contact stiffness K given directly (N/m^n): see [`MIN_STIFFNESS`].
 pub const MAX_STIFFNESS: f64 = 1e18;
@@ -51,3 +60,40 @@ pub const MAX_STIFFNESS: f64 = 1e18;
 /// in 1e7 steps. Physically, c_r < 0.01 is a plastic impact (the journal keeps less than 1 % of
 /// its approach speed), which a continuous law with a finite stiffness does not describe.
 pub const MIN_FLORES_RESTITUTION: f64 = 0.01;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// K = 4/(3(σ_J + σ_B)) · √(R_J R_B/c), both sides of one material (docs/reference_parameters.md).
+    fn stiffness(e: f64, nu: f64, r_j: f64, c: f64) -> f64 {
+        let sigma = (1.0 - nu * nu) / e;
+        4.0 / (3.0 * 2.0 * sigma) * (r_j * (r_j + c) / c).sqrt()
+    }
+
+    #[test]
+    fn the_stiffness_bounds_enclose_what_the_material_and_size_bounds_give() {
+        // Reference check value first, so the formula here is the right one.
+        let k_ref = stiffness(207e9, 0.3, 0.01, 5e-4);
+        assert!(
+            (k_ref - 6.9494e10).abs() < 1e-4 * 6.9494e10,
+            "K_ref = {k_ref:e}"
+        );
+        // Softest: E = 1 MPa, ν = 0, c → R_J = 1 µm. Stiffest: E = 1.2 TPa, ν → 0.5, R_J = 10 m,
+        // c = 1 nm. The documented extremes, to two digits.
+        let soft = stiffness(
+            MIN_YOUNGS_MODULUS,
+            0.0,
+            MIN_JOURNAL_RADIUS,
+            MIN_JOURNAL_RADIUS,
+        );
+        let stiff = stiffness(MAX_YOUNGS_MODULUS, 0.5, MAX_JOURNAL_RADIUS, MIN_CLEARANCE);
+        assert!((soft - 9.4e2).abs() < 0.01 * 9.4e2, "softest K = {soft:e}");
+        assert!(
+            (stiff - 3.4e17).abs() < 0.01 * 3.4e17,
+            "stiffest K = {stiff:e}"
+        );
+        assert!(MIN_STIFFNESS <= soft && MIN_STIFFNESS > soft / 10.0);
+        assert!(MAX_STIFFNESS >= stiff && MAX_STIFFNESS < stiff * 10.0);
+    }
+}
