@@ -37,6 +37,19 @@ enum Command {
     Compare(compare::CompareArgs),
 }
 
+/// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
+/// by a law switch, for example) as `note: …` lines on stderr.
+pub fn load_model(
+    path: &Path,
+    set: &[String],
+) -> Result<linkdyn::model::Model, linkdyn::model::ModelError> {
+    let model = linkdyn::model::load(path, set)?;
+    for note in &model.notes {
+        eprintln!("note: {note}");
+    }
+    Ok(model)
+}
+
 /// Exit code for bad input.
 pub const EXIT_BAD_INPUT: u8 = 2;
 /// Exit code for a solver failure.
