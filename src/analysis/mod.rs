@@ -1,5 +1,21 @@
-//! Analyses of finished runs; each returns plain data (no files, no printing).
+//! Analyses of finished runs and of formulations; each returns plain data (no files, no
+//! printing).
+//!
+//! | file | job |
+//! |---|---|
+//! | [`compare`](mod@compare) | differences between two runs of the same model |
+//! | [`spectrum`] | one-sided amplitude spectrum (FFT) and its dominant peaks |
+//! | [`poincare`] | stroboscopic Poincaré section of a driven formulation |
+//! | [`period`] | period-k verdict on a sequence of Poincaré points |
+//! | [`lyapunov`] | largest Lyapunov exponent (two trajectories, renormalisation) |
+//! | [`phase`] | phase-portrait data (value against rate) |
+//! | [`sweep`] | parameter-sweep bookkeeping: grid, shards, resume, merge, parallel map |
+//! | [`error`] | [`AnalysisError`] |
 
 pub mod compare;
+pub mod error;
+pub mod spectrum;
 
 pub use compare::{ColumnDifference, Comparison, compare};
+pub use error::AnalysisError;
+pub use spectrum::{Peak, Spectrum, SpectrumOptions, Window, amplitude_spectrum};
