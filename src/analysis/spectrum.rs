@@ -175,7 +175,7 @@ pub fn amplitude_spectrum(
     let mags: Vec<f64> = buf.iter().take(half + 1).map(|c| c.norm()).collect();
     let one_sided = |k: usize, m: f64| {
         // Bins 0 and N/2 (N even) have no negative-frequency twin to fold in.
-        if k == 0 || (n % 2 == 0 && k == half) {
+        if k == 0 || (n.is_multiple_of(2) && k == half) {
             m / w_sum
         } else {
             2.0 * m / w_sum
