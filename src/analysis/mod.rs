@@ -14,8 +14,10 @@
 
 pub mod compare;
 pub mod error;
+pub mod period;
 pub mod spectrum;
 
 pub use compare::{ColumnDifference, Comparison, compare};
 pub use error::AnalysisError;
+pub use period::{PeriodAnalysis, PeriodOptions, PeriodVerdict, period_verdict};
 pub use spectrum::{Peak, Spectrum, SpectrumOptions, Window, amplitude_spectrum};
