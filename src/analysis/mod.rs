@@ -16,6 +16,7 @@ pub mod compare;
 pub mod error;
 pub mod lyapunov;
 pub mod period;
+pub mod phase;
 pub mod poincare;
 pub mod spectrum;
 
@@ -23,5 +24,6 @@ pub use compare::{ColumnDifference, Comparison, compare};
 pub use error::AnalysisError;
 pub use lyapunov::{LyapunovEstimate, LyapunovOptions, largest_lyapunov};
 pub use period::{PeriodAnalysis, PeriodOptions, PeriodVerdict, period_verdict};
+pub use phase::{PhasePortrait, RateSource, phase_portrait};
 pub use poincare::{PoincareSection, SectionOptions, section_outputs, section_states};
 pub use spectrum::{Peak, Spectrum, SpectrumOptions, Window, amplitude_spectrum};
