@@ -102,8 +102,7 @@ pub fn phase_portrait(
         });
     }
     let h = (t[n - 1] - t[0]) / (n - 1) as f64;
-    if let Some(i) = (0..n).find(|&i| !((t[i] - (t[0] + i as f64 * h)).abs() <= UNIFORM_SLACK * h))
-    {
+    if let Some(i) = (0..n).find(|&i| (t[i] - (t[0] + i as f64 * h)).abs() > UNIFORM_SLACK * h) {
         return Err(AnalysisError::invalid(
             "t",
             format!(
