@@ -19,6 +19,7 @@ pub mod period;
 pub mod phase;
 pub mod poincare;
 pub mod spectrum;
+pub mod sweep;
 
 pub use compare::{ColumnDifference, Comparison, compare};
 pub use error::AnalysisError;
@@ -27,3 +28,4 @@ pub use period::{PeriodAnalysis, PeriodOptions, PeriodVerdict, period_verdict};
 pub use phase::{PhasePortrait, RateSource, phase_portrait};
 pub use poincare::{PoincareSection, SectionOptions, section_outputs, section_states};
 pub use spectrum::{Peak, Spectrum, SpectrumOptions, Window, amplitude_spectrum};
+pub use sweep::{ParameterGrid, Shard, SweepPoint, merge, remaining, run_points};
