@@ -9,7 +9,7 @@
 //!
 //! with φ ≥ 0 the phase offset (s) and the first n_transient periods discarded as transient.
 //! The formulation is integrated once from (t0, y0) to the last t_k with
-//! [`Stepper`](crate::solve::Stepper) (so events — contacts — are located and applied as in any
+//! [`Stepper`] (so events — contacts — are located and applied as in any
 //! run), and each t_k is read from the dense output of the step that contains it, never from a
 //! step end: the section points carry the integrator's dense-output error (order 4 for DOPRI5, 7
 //! for DOP853) and no error from the placement of the steps. Each t_k is computed as
