@@ -11,7 +11,8 @@
 //!    sinc²(f·h_max) (h_max the largest input spacing), so it is only accurate well below the
 //!    input's own Nyquist frequency.
 //! 2. **Mean removal** (optional, on by default): x_j ← x_j − x̄, so that a large mean does not
-//!    leak into the lowest bins. The mean x̄ is reported either way.
+//!    leak into the lowest bins (without it, the Hann window puts the mean's amplitude into
+//!    bin 1 as well as bin 0). The mean x̄ is reported either way.
 //! 3. **Window** w_j: Hann (default), w_j = ½(1 − cos(2πj/N)) (the periodic form, whose DFT is
 //!    exactly N/2 at bin 0 and −N/4 at bins ±1), or rectangular, w_j = 1.
 //! 4. **FFT** (`rustfft` \[1\]): X_k = Σ_j w_j x_j e^{−2πi jk/N}.
@@ -40,9 +41,10 @@
 //!    transform", *Proceedings of the IEEE* 66(1), 51–83, 1978.
 //! 3. D. C. Rife, R. R. Boorstyn, "Single-tone parameter estimation from discrete-time
 //!    observations", *IEEE Transactions on Information Theory* 20(5), 591–598, 1974.
-//! 4. A. Farahan, M. R. Ghazavi, et al., bifurcation and chaos of a four-bar linkage with a
-//!    revolute clearance joint (FFT of the response, Figs. 5–6), the reference paper of
-//!    `models/farahan2016.toml`.
+//! 4. S. B. Farahan, M. R. Ghazavi, S. Rahmanian, "Nonlinear dynamic analysis of a four-bar
+//!    mechanism having revolute joint with clearance", *Journal of Theoretical and Applied
+//!    Vibration and Acoustics* (2016), Figs. 5–6 (FFT of the response),
+//!    <https://tava.isav.ir/article_19881.html>.
 
 use std::f64::consts::PI;
 
