@@ -14,6 +14,7 @@ mod run;
 
 use clap::{Parser, Subcommand};
 use linkdyn::Error;
+use linkdyn::analysis::AnalysisError;
 use linkdyn::output::OutputError;
 use linkdyn::solve::SolveError;
 use std::path::Path;
@@ -74,6 +75,10 @@ impl From<Error> for Failure {
             Error::Solve(_) => EXIT_SOLVER,
             Error::Output(o) if o.is_bad_input() => EXIT_BAD_INPUT,
             Error::Output(_) => EXIT_OUTPUT,
+            Error::Analysis(AnalysisError::Solve { .. } | AnalysisError::Outputs { .. }) => {
+                EXIT_SOLVER
+            }
+            Error::Analysis(_) => EXIT_BAD_INPUT,
         };
         Failure {
             code,
