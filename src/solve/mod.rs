@@ -73,12 +73,17 @@
 //!    `dop853_coefficients.py`.
 
 mod control;
+pub mod dense;
 mod dop853;
 mod dopri5;
 pub mod error;
 pub mod events;
+mod explicit;
 pub mod integrate;
+pub mod integrator;
+mod methods;
 pub mod options;
+mod progress;
 pub mod record;
 mod rk;
 pub mod stats;
@@ -87,10 +92,12 @@ pub mod stepper;
 #[cfg(test)]
 mod order_conditions;
 
+pub use dense::DenseStep;
 pub use error::SolveError;
 pub use events::EventRecord;
 pub use integrate::{Sink, integrate};
-pub use options::{Method, SolverOptions};
+pub use integrator::{Attempt, ErrorWeights, Integrator, Rejection, Start, Trial};
+pub use options::{ExplicitRkSettings, Method, SolverOptions};
 pub use record::Recorder;
 pub use stats::SolverStats;
 pub use stepper::{Stepper, Stop};
