@@ -47,7 +47,7 @@ fn a_collapsed_step_size_stops_the_run_within_the_window() {
         // more than 100 × the 1e7 left of max_steps.
         assert_eq!(
             err.to_string(),
-            "no progress at t = 0.000000010 s: the last 1000 step attempts advanced t by 1.000e-8 s (mean step 1.000e-11 s); reaching t_end at this pace needs about 1.0e11 more attempts. The step size collapsed: the solution is (nearly) discontinuous here or events pile up (chattering, a Zeno sequence of impacts); check the model",
+            "no progress at t = 0.000000010 s: the last 1000 step attempts advanced t by 1.000e-8 s (mean step 1.000e-11 s); reaching t_end at this pace needs about 1.0e11 more attempts. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model",
             "{method}"
         );
     }

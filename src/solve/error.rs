@@ -183,7 +183,7 @@ fn no_progress_message(
         )
     } else {
         format!(
-            "{head}. The step size collapsed: the solution is (nearly) discontinuous here or events pile up (chattering, a Zeno sequence of impacts); check the model"
+            "{head}. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model"
         )
     }
 }
