@@ -500,16 +500,19 @@ pub(crate) fn error_norm(
     weighted_sum(&E3, k, err3);
     let mut s5 = 0.0;
     let mut s3 = 0.0;
-    for &i in &weights.controlled {
-        let (Some(&a), Some(&b), Some(&r5), Some(&r3)) =
-            (y.get(i), y_new.get(i), err5.get(i), err3.get(i))
-        else {
-            continue;
-        };
+    // Bookkeeping components have weight 0 and add exactly +0 (see `ErrorWeights`).
+    for ((((&w, &a), &b), &r5), &r3) in weights
+        .mask
+        .iter()
+        .zip(y)
+        .zip(y_new)
+        .zip(&*err5)
+        .zip(&*err3)
+    {
         let e5 = scaled(r5, a, b, rtol, atol);
         let e3 = scaled(r3, a, b, rtol, atol);
-        s5 += e5 * e5;
-        s3 += e3 * e3;
+        s5 += w * (e5 * e5);
+        s3 += w * (e3 * e3);
     }
     if s5 == 0.0 && s3 == 0.0 {
         return 0.0;

@@ -191,8 +191,7 @@ pub(crate) fn error_norm(
         return 0.0;
     }
     weighted_sum(&E, k, scratch);
-    let e = &*scratch;
-    weights.rms(y, y_new, |i| h * e.get(i).copied().unwrap_or(0.0))
+    (weights.sum_of_squares_of(h, scratch, y, y_new) / weights.len() as f64).sqrt()
 }
 
 /// Fills the dense-output vectors r₁..r₄ of a step of size h from y_old to y_new.

@@ -6,7 +6,8 @@
 //! hλ ≈ h‖k_s − k_{s−1}‖/‖y_s − y_{s−1}‖ from the two stages at c = 1 (their arguments y_{s−1}
 //! and y_s = y_new) estimates h times the dominant eigenvalue along the step. Above the
 //! boundary of the method's stability region on the negative axis (3.25 for DOPRI5, 6.1 for
-//! DOP853) the step is limited by stability rather than accuracy. 15 such steps without 6
+//! DOP853) the step is limited by stability rather than accuracy. The test runs on every 16th
+//! accepted step, and on every step while stiff steps are being counted; 15 such steps without 6
 //! non-stiff ones in between mark the problem as stiff ([`Integrator::stiffness_detected`]);
 //! the driver only uses this to word its message when a run stops making progress.
 //!
@@ -28,6 +29,10 @@ use crate::formulation::Formulation;
 const STIFF_STEPS: u32 = 15;
 /// Non-stiff steps that clear the count of stiff ones.
 const NON_STIFF_STEPS: u32 = 6;
+/// While no stiff step is being counted, the test runs on every this-many accepted steps
+/// (Hairer's codes: every 1000th; more often here so that the no-progress rule, which looks at
+/// 1000 attempts, already knows).
+const STIFF_TEST_EVERY: u64 = 16;
 
 /// What distinguishes one explicit pair from another: tableau, error norm, dense output.
 pub(crate) trait Pair {
@@ -123,6 +128,7 @@ pub(crate) struct ExplicitRk<P> {
     stiff_steps: u32,
     non_stiff_steps: u32,
     stiff: bool,
+    accepted: u64,
     pair: PhantomData<P>,
 }
 
@@ -145,12 +151,17 @@ impl<P: Pair> ExplicitRk<P> {
             stiff_steps: 0,
             non_stiff_steps: 0,
             stiff: false,
+            accepted: 0,
             pair: PhantomData,
         }
     }
 
     /// Hairer's stiffness test on the accepted step of size h (see the module documentation).
     fn update_stiffness(&mut self, h: f64) {
+        self.accepted += 1;
+        if self.stiff_steps == 0 && self.accepted % STIFF_TEST_EVERY != 0 {
+            return;
+        }
         let (Some(k_last), Some(k_fsal)) = (self.k.get(P::LAST_STAGE), self.k.get(P::FSAL)) else {
             return;
         };

@@ -61,6 +61,9 @@ pub struct ErrorWeights {
     pub atol: f64,
     /// Indices of the error-controlled components, ascending.
     pub controlled: Vec<usize>,
+    /// 1 for a controlled component, 0 for a bookkeeping one (length n): the error sums run
+    /// over all components times this weight, branch-free and in index order.
+    pub(crate) mask: Vec<f64>,
 }
 
 impl ErrorWeights {
@@ -76,6 +79,7 @@ impl ErrorWeights {
                 .enumerate()
                 .filter_map(|(i, &c)| c.then_some(i))
                 .collect(),
+            mask: mask.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect(),
         }
     }
 
@@ -104,6 +108,25 @@ impl ErrorWeights {
                 _ => 0.0,
             })
             .sum()
+    }
+
+    /// Σ over controlled components of (factor·e_i/sk_i)² for an error vector e (length n).
+    /// A bookkeeping component adds exactly +0 (its error is finite whenever the state is), so
+    /// the sum equals the one over controlled components only, bit for bit.
+    pub(crate) fn sum_of_squares_of(
+        &self,
+        factor: f64,
+        err: &[f64],
+        y: &[f64],
+        y_new: &[f64],
+    ) -> f64 {
+        let (rtol, atol) = (self.rtol, self.atol);
+        let mut sum = 0.0;
+        for (((&w, &e), &a), &b) in self.mask.iter().zip(err).zip(y).zip(y_new) {
+            let r = scaled(factor * e, a, b, rtol, atol);
+            sum += w * (r * r);
+        }
+        sum
     }
 
     /// The RMS norm sqrt(1/m Σ (e_i/sk_i)²) (0 if m = 0).
