@@ -159,7 +159,7 @@ impl<P: Pair> ExplicitRk<P> {
     /// Hairer's stiffness test on the accepted step of size h (see the module documentation).
     fn update_stiffness(&mut self, h: f64) {
         self.accepted += 1;
-        if self.stiff_steps == 0 && self.accepted % STIFF_TEST_EVERY != 0 {
+        if self.stiff_steps == 0 && !self.accepted.is_multiple_of(STIFF_TEST_EVERY) {
             return;
         }
         let (Some(k_last), Some(k_fsal)) = (self.k.get(P::LAST_STAGE), self.k.get(P::FSAL)) else {

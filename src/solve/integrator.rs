@@ -36,7 +36,7 @@
 //! # Adding a method
 //! Write a type implementing [`Integrator`] for every `F: Formulation`, add a variant to
 //! [`Method`] (its name, order, description and whether it is implicit, all in `options.rs`) and
-//! one arm in [`new_integrator`](crate::solve::methods::new_integrator). Events, the driver,
+//! one arm in `solve::methods::new_integrator` (private). Events, the driver,
 //! [`integrate`](fn@crate::solve::integrate) and the sinks need no change.
 
 use super::error::SolveError;
