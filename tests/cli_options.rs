@@ -87,10 +87,9 @@ fn negative_numbers_reach_the_range_checks() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `--rtol 1` and `--atol 0` are refused by the range rule that the solvers helper is adding
-/// to `SolverOptions::validate` (rtol < 1, atol > 0); un-ignore when that is merged.
+/// `--rtol 1` and `--atol 0` are refused by the range rule of `SolverOptions::validate`
+/// (rtol in [10ε, 0.1], atol in (0, 1]).
 #[test]
-#[ignore = "needs the rtol/atol range rule of SolverOptions::validate (solvers branch)"]
 fn out_of_range_tolerances_are_refused_naming_the_option() {
     for (option, value) in [("--rtol", "1"), ("--atol", "0")] {
         let dir = scratch("tol");
@@ -207,4 +206,43 @@ fn a_law_switch_prints_the_dropped_fields_as_a_note() {
         "stderr: {stderr}"
     );
     assert!(stdout.contains("farahan2016"), "stdout: {stdout}");
+}
+
+#[test]
+fn max_wall_bounds_a_run_with_exit_3_and_leaves_no_files() {
+    let dir = scratch("wall");
+    let out = dir.join("r.csv");
+    let out_s = out.to_string_lossy().into_owned();
+    let (code, _, stderr) = linkdyn(&[
+        "run",
+        "models/farahan2016.toml",
+        "--revs",
+        "200",
+        "--max-wall",
+        "1e-4",
+        "--out",
+        &out_s,
+    ]);
+    assert_eq!(code, 3, "stderr: {stderr}");
+    assert!(
+        stderr.starts_with("error: stopped after ")
+            && stderr.contains(" s of wall-clock time (limit max_wall = 0.0001 s) at t = ")
+            && stderr.contains(" of t_end = 48"),
+        "stderr: {stderr}"
+    );
+    assert!(entries(&dir).is_empty(), "files left: {:?}", entries(&dir));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn run_help_lists_every_method_with_its_description() {
+    let (code, stdout, _) = linkdyn(&["run", "--help"]);
+    assert_eq!(code, 0);
+    for m in linkdyn::solve::Method::ALL {
+        let line = format!("{m}: {}", m.description());
+        assert!(
+            stdout.contains(&line),
+            "`{line}` missing from run --help:\n{stdout}"
+        );
+    }
 }

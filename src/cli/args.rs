@@ -24,9 +24,13 @@ pub struct SolveArgs {
     /// Absolute tolerance.
     #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
     pub atol: f64,
-    /// Integration method: dop853 (8th order) or dopri5 (5th order).
-    #[arg(long, default_value = "dop853")]
+    /// Integration method (see the list in `--help`).
+    #[arg(long, default_value = "dop853", long_help = method_help())]
     pub method: String,
+    /// Wall-clock budget of the integration (s): a run that takes longer stops with exit 3,
+    /// the time it reached and its rate. Default: no limit.
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub max_wall: Option<f64>,
     /// Most step attempts before the solver gives up (with the time it reached).
     #[arg(long, default_value_t = 10_000_000, allow_negative_numbers = true)]
     pub max_steps: u64,
@@ -34,6 +38,15 @@ pub struct SolveArgs {
     /// `--set drivers.motor.speed_rpm=3500`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+}
+
+/// The `--method` help: every integrator with its one-line description.
+fn method_help() -> String {
+    let mut text = String::from("Integration method:");
+    for m in Method::ALL {
+        text.push_str(&format!("\n  {m}: {}", m.description()));
+    }
+    text
 }
 
 impl SolveArgs {
@@ -48,6 +61,10 @@ impl SolveArgs {
             .rtol(self.rtol)
             .atol(self.atol)
             .max_steps(self.max_steps);
+        let solver = match self.max_wall {
+            Some(seconds) => solver.max_wall(seconds),
+            None => solver,
+        };
         let options = SimulationOptions::default().dt(self.dt).solver(solver);
         Ok(match (self.t_end, self.revs) {
             (Some(t), _) => options.t_end(t),
