@@ -1,8 +1,10 @@
 //! `linkdyn.Result`: a finished run as read-only NumPy arrays, its events and its summary.
 
+use crate::errors;
 use linkdyn::formulation::Crossing;
-use linkdyn::simulation::Trajectory;
-use numpy::PyArray1;
+use linkdyn::output::{CsvSink, ResultPair, check_npz_size, write_npz};
+use linkdyn::simulation::{Columns, RunSummary, Sample, SampleSink, Trajectory};
+use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyImportError, PyKeyError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -16,7 +18,7 @@ pub struct PyResult_ {
     columns: Vec<Py<PyArray1<f64>>>,
     constraint_violation: Py<PyArray1<f64>>,
     events: Vec<(f64, usize, Option<String>, &'static str, bool)>,
-    summary_json: String,
+    summary: RunSummary,
     samples: usize,
 }
 
@@ -32,9 +34,6 @@ impl PyResult_ {
     /// Takes the trajectory's vectors over as NumPy arrays; `clearance` names the clearance
     /// joints in model order (event k belongs to joint k).
     pub fn new(py: Python<'_>, run: Trajectory, clearance: Vec<String>) -> PyResult<Self> {
-        let summary_json = serde_json::to_string(&run.summary).map_err(|e| {
-            pyo3::exceptions::PyRuntimeError::new_err(format!("cannot convert the summary: {e}"))
-        })?;
         let events = run
             .events
             .iter()
@@ -64,7 +63,7 @@ impl PyResult_ {
             columns,
             constraint_violation: frozen_array(py, run.constraint_violation)?,
             events,
-            summary_json,
+            summary: run.summary,
         })
     }
 
@@ -145,8 +144,10 @@ impl PyResult_ {
     /// balance). A new dict on every access.
     #[getter]
     fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        py.import("json")?
-            .call_method1("loads", (&self.summary_json,))
+        let text = serde_json::to_string(&self.summary).map_err(|e| {
+            pyo3::exceptions::PyRuntimeError::new_err(format!("cannot convert the summary: {e}"))
+        })?;
+        py.import("json")?.call_method1("loads", (text,))
     }
 
     /// Located events in time order: one dict each with `t` (s), `index`, `joint` (the
@@ -180,6 +181,80 @@ impl PyResult_ {
             data.set_item(n, c.bind(py).to_owned())?;
         }
         pandas.call_method1("DataFrame", (data,))
+    }
+
+    /// Writes the result files of `linkdyn run --out PATH --format FORMAT`: the CSV (or NPZ)
+    /// and the JSON summary beside it (`PATH` with the extension `.json`), both appearing
+    /// whole or not at all, the earlier pair untouched on failure. The CSV is byte for byte the
+    /// command line's for the same model and settings. Raises `OutputError`.
+    #[pyo3(signature = (path, format = "csv"))]
+    fn save(&self, py: Python<'_>, path: std::path::PathBuf, format: &str) -> PyResult<()> {
+        let to_py = |e: linkdyn::output::OutputError| errors::to_py(py, e.into(), None);
+        let npz = match format {
+            "csv" => false,
+            "npz" => true,
+            other => {
+                return Err(errors::to_py(
+                    py,
+                    linkdyn::Error::settings(
+                        "format",
+                        format!("expected \"csv\" or \"npz\", got \"{other}\""),
+                    ),
+                    None,
+                ));
+            }
+        };
+        // Copies of the columns (the arrays stay with Python); then no GIL while writing.
+        let data = Columns {
+            t: self.t.bind(py).to_vec().map_err(PyErr::from)?,
+            columns: self
+                .columns
+                .iter()
+                .map(|c| c.bind(py).to_vec())
+                .collect::<Result<_, _>>()
+                .map_err(PyErr::from)?,
+            constraint_violation: self
+                .constraint_violation
+                .bind(py)
+                .to_vec()
+                .map_err(PyErr::from)?,
+            events: Vec::new(),
+        };
+        let names = &self.names;
+        let summary = &self.summary;
+        py.detach(|| -> Result<(), linkdyn::Error> {
+            let provenance = &summary.provenance;
+            if npz {
+                check_npz_size(&path, data.t.len(), names)?;
+            }
+            // The model file itself is never a target (as on the command line).
+            let model = std::path::Path::new(&provenance.model.path);
+            let mut pair = ResultPair::begin(&path, Some(model))?;
+            if npz {
+                write_npz(pair.csv().writer(), &path, provenance, names, &data)?;
+            } else {
+                let label = path.display().to_string();
+                let mut csv = CsvSink::new(pair.csv().writer(), label, provenance, names)?;
+                let mut row = vec![0.0; names.len()];
+                for (k, (&t, &cv)) in data.t.iter().zip(&data.constraint_violation).enumerate() {
+                    for (r, c) in row.iter_mut().zip(&data.columns) {
+                        *r = c.get(k).copied().unwrap_or(f64::NAN);
+                    }
+                    csv.sample(&Sample {
+                        t,
+                        state: &[],
+                        outputs: &row,
+                        constraint_violation: cv,
+                    })?;
+                }
+            }
+            pair.commit(summary)?;
+            Ok(())
+        })
+        .map_err(|e| match e {
+            linkdyn::Error::Output(o) => to_py(o),
+            other => errors::to_py(py, other, None),
+        })
     }
 
     fn __repr__(&self) -> String {
