@@ -27,6 +27,9 @@ pub enum Error {
     /// A result file that cannot be written.
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),
+    /// An analysis (spectrum, Poincaré section, Lyapunov exponent, sweep) that cannot be done.
+    #[error(transparent)]
+    Analysis(#[from] crate::analysis::AnalysisError),
 }
 
 impl Error {

@@ -83,8 +83,25 @@ fn dop853_at_rtol_1e_12_stays_within_1e_10_over_ten_periods() -> Result<(), Solv
     Ok(())
 }
 
-/// rhs_evals = 1 (f(t0)) + 1 (hinit) + per-step stages + dense extras + restarts.
+/// rhs_evals = 1 (f(t0)) + 1 (hinit) + per-step stages + dense extras + restarts (no stage
+/// failed here: every rejection is an error-test failure). Also checks the identities between
+/// the rejection counters of an explicit method.
 fn expected_rhs_evals(method: Method, s: &SolverStats) -> u64 {
+    assert_eq!(
+        s.rejected,
+        s.error_test_failures + s.newton_failures + s.recovered_rejections,
+        "{method}: rejections by cause: {s:?}"
+    );
+    assert_eq!(
+        (s.recovered_rejections, s.newton_failures),
+        (0, 0),
+        "{method}: no stage failure and no Newton iteration: {s:?}"
+    );
+    assert_eq!(
+        (s.newton_iterations, s.jacobian_evals),
+        (0, 0),
+        "{method} is explicit: {s:?}"
+    );
     let steps = match method {
         Method::Dopri5 => 6 * (s.steps + s.rejected),
         Method::Dop853 => 12 * s.steps + 11 * s.rejected,

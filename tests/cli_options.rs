@@ -190,3 +190,21 @@ fn the_library_names_no_command_line_crate() {
         "library files naming clap/anyhow/cli: {offenders:?}"
     );
 }
+
+#[test]
+fn a_law_switch_prints_the_dropped_fields_as_a_note() {
+    let (code, stdout, stderr) = linkdyn(&[
+        "check",
+        "models/farahan2016.toml",
+        "--set",
+        "joints.B.friction.law=none",
+    ]);
+    assert_eq!(code, 0, "stderr: {stderr}");
+    assert!(
+        stderr.starts_with(
+            "note: --set joints.B.friction.law=none: dropped coefficient = 0.1, v0 = 0.0001, v1 = 0.001 from joints.B.friction, which friction law \"none\" does not take\n"
+        ),
+        "stderr: {stderr}"
+    );
+    assert!(stdout.contains("farahan2016"), "stdout: {stdout}");
+}

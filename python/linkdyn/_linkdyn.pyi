@@ -31,6 +31,9 @@ class Model:
     def overrides(self) -> List[str]:
         """The overrides applied at load time (``"KEY=VALUE"``, in order)."""
     @property
+    def notes(self) -> List[str]:
+        """Things to know that are not errors (the CLI's ``note:`` lines), one sentence each."""
+    @property
     def sha256(self) -> str:
         """SHA-256 of the model file (hex), as recorded in every result's provenance."""
     @property

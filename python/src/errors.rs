@@ -109,6 +109,8 @@ fn build(py: Python<'_>, e: &Error, model_path: Option<&str>) -> PyResult<PyErr>
             ("SolverError", message(e))
         }
         Error::Output(_) => ("OutputError", message(e)),
+        // Analyses are not bound yet; should one fail, it is still a linkdyn error.
+        Error::Analysis(_) => ("LinkdynError", message(e)),
     };
     let class = py.import("linkdyn._errors")?.getattr(class)?;
     let value = class.call1((text,))?;

@@ -91,6 +91,13 @@ impl PyModel {
         self.model.source.overrides.clone()
     }
 
+    /// Things to know that are not errors, one sentence each (e.g. the fields a `set=` that
+    /// switched a contact or friction law dropped); the command line prints them as `note:`.
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.model.notes.clone()
+    }
+
     /// SHA-256 of the model file (hex), as recorded in every result's provenance.
     #[getter]
     fn sha256(&self) -> &str {

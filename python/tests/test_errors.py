@@ -127,3 +127,13 @@ def test_unknown_column_is_a_key_error():
     result = linkdyn.load(MODEL).run(t_end=1e-3)
     with pytest.raises(KeyError, match="coupler.phi"):
         result["coupler.ph"]
+
+
+def test_notes_are_the_cli_s_note_lines(cli):
+    # Switching the friction law by override drops the old law's fields, with a note.
+    code, _, err = cli("check", MODEL, "--set", "joints.B.friction.law=none")
+    assert code == 0, err
+    expected = [l[len("note: "):] for l in err.splitlines() if l.startswith("note: ")]
+    model = linkdyn.load(MODEL, set={"joints.B.friction.law": "none"})
+    assert expected and model.notes == expected
+    assert linkdyn.load(MODEL).notes == []

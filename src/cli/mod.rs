@@ -14,6 +14,7 @@ mod run;
 
 use clap::{Parser, Subcommand};
 use linkdyn::Error;
+use linkdyn::analysis::AnalysisError;
 use linkdyn::output::OutputError;
 use linkdyn::solve::SolveError;
 use std::path::Path;
@@ -35,6 +36,19 @@ enum Command {
     Run(run::RunArgs),
     /// Run the DAE and the reduced formulation with the same settings; print their differences.
     Compare(compare::CompareArgs),
+}
+
+/// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
+/// by a law switch, for example) as `note: …` lines on stderr.
+pub fn load_model(
+    path: &Path,
+    set: &[String],
+) -> Result<linkdyn::model::Model, linkdyn::model::ModelError> {
+    let model = linkdyn::model::load(path, set)?;
+    for note in &model.notes {
+        eprintln!("note: {note}");
+    }
+    Ok(model)
 }
 
 /// Exit code for bad input.
@@ -61,6 +75,10 @@ impl From<Error> for Failure {
             Error::Solve(_) => EXIT_SOLVER,
             Error::Output(o) if o.is_bad_input() => EXIT_BAD_INPUT,
             Error::Output(_) => EXIT_OUTPUT,
+            Error::Analysis(AnalysisError::Solve { .. } | AnalysisError::Outputs { .. }) => {
+                EXIT_SOLVER
+            }
+            Error::Analysis(_) => EXIT_BAD_INPUT,
         };
         Failure {
             code,
