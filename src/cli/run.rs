@@ -1,12 +1,13 @@
-//! `linkdyn run MODEL …`: integrate and write `F.csv` plus the summary `F.json`, streamed and
-//! committed together (see [`linkdyn::output::ResultPair`]).
+//! `linkdyn run MODEL …`: integrate and write `F.csv` (streamed) or `F.npz` (`--format npz`,
+//! written from memory after the run) plus the summary `F.json`, committed together (see
+//! [`linkdyn::output::ResultPair`]).
 
 use super::args::SolveArgs;
 use super::progress::Watched;
 use super::{Failure, in_model, interrupt};
-use clap::Args;
-use linkdyn::output::{CsvSink, ResultPair};
-use linkdyn::simulation::{FormulationKind, Simulation};
+use clap::{Args, ValueEnum};
+use linkdyn::output::{CsvSink, ResultPair, check_npz_size, write_npz};
+use linkdyn::simulation::{Columns, FormulationKind, RunSummary, Simulation};
 use std::path::PathBuf;
 
 /// Arguments of `run`.
@@ -23,9 +24,23 @@ pub struct RunArgs {
     /// balance to the summary.
     #[arg(long)]
     energy: bool,
-    /// Output CSV file; the summary goes beside it with the extension `.json`.
+    /// Output file (CSV or NPZ, see --format); the summary goes beside it with the extension
+    /// `.json`.
     #[arg(long)]
     out: PathBuf,
+    /// Result file format: csv (streamed to disk as the run goes) or npz (NumPy: one float64
+    /// array per column and the provenance as JSON; kept in memory until the run ends).
+    #[arg(long, value_enum, default_value_t = Format::Csv)]
+    format: Format,
+}
+
+/// Result file format of `run`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Format {
+    /// Comma-separated text: a header row, `#` provenance lines, one row per sample.
+    Csv,
+    /// NumPy `.npz`: one array per column, `provenance` as a JSON string.
+    Npz,
 }
 
 fn parse_formulation(s: &str) -> Result<FormulationKind, String> {
@@ -42,24 +57,21 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         .formulation(args.formulation)
         .energy(args.energy);
     let sim = Simulation::new(&model, options).map_err(|e| in_model(&args.model, e))?;
+    if args.format == Format::Npz {
+        check_npz_size(&args.out, sim.expected_samples(), sim.column_names())?;
+    }
     let mut pair = ResultPair::begin(&args.out, Some(&args.model))?;
     interrupt::remove_on_abort(pair.scratch_paths());
-    let provenance = sim.provenance();
-    let label = args.out.display().to_string();
-    let result = {
-        let csv = CsvSink::new(pair.csv().writer(), label, &provenance, sim.column_names())
-            .map_err(linkdyn::Error::from)?;
-        let mut sink = Watched::new(csv, &sim);
-        let result = sim.run(&mut sink);
-        sink.finish();
-        result
+    let result = match args.format {
+        Format::Csv => run_csv(&sim, &mut pair, args),
+        Format::Npz => run_npz(&sim, &mut pair, args),
     };
     if interrupt::requested() {
         // Dropping the pair removes both temporary files and the lock file.
         drop(pair);
         return Err(Failure::interrupted());
     }
-    let summary = result?;
+    let summary = result.map_err(Failure::from)?;
     if !interrupt::begin_commit() {
         drop(pair);
         return Err(Failure::interrupted());
@@ -81,4 +93,43 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         summary.max_constraint_violation
     );
     Ok(())
+}
+
+/// Streams the run into the CSV of `pair`.
+fn run_csv(
+    sim: &Simulation,
+    pair: &mut ResultPair,
+    args: &RunArgs,
+) -> Result<RunSummary, linkdyn::Error> {
+    let provenance = sim.provenance();
+    let label = args.out.display().to_string();
+    let csv = CsvSink::new(pair.csv().writer(), label, &provenance, sim.column_names())?;
+    let mut sink = Watched::new(csv, sim);
+    let result = sim.run(&mut sink);
+    sink.finish();
+    result
+}
+
+/// Runs into memory, then writes the NPZ into the data file of `pair` (not after an
+/// interrupt: the pair is dropped then anyway).
+fn run_npz(
+    sim: &Simulation,
+    pair: &mut ResultPair,
+    args: &RunArgs,
+) -> Result<RunSummary, linkdyn::Error> {
+    let mut columns = Columns::with_capacity(sim.column_names().len(), sim.expected_samples());
+    let mut sink = Watched::new(&mut columns, sim);
+    let result = sim.run(&mut sink);
+    sink.finish();
+    let summary = result?;
+    if !interrupt::requested() {
+        write_npz(
+            pair.csv().writer(),
+            &args.out,
+            &sim.provenance(),
+            sim.column_names(),
+            &columns,
+        )?;
+    }
+    Ok(summary)
 }

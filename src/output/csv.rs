@@ -1,23 +1,23 @@
-//! The CSV result file: `#` provenance lines, a header row, then one row per sample, streamed
+//! The CSV result file: a header row, `#` provenance lines, then one row per sample, streamed
 //! as the samples arrive. Numbers are written in Rust's shortest round-trip form, so the file
 //! holds the exact f64s.
+//!
+//! The header comes first so that readers which take the column names from the first line
+//! and skip `#` lines anywhere read the file in one call: NumPy's
+//! `np.genfromtxt(f, delimiter=",", names=True, deletechars="")` and
+//! `np.loadtxt(f, delimiter=",", skiprows=1)`, pandas' `pd.read_csv(f, comment="#")`. (With
+//! the provenance first, `genfromtxt(names=True)` takes the first comment line for the names.)
 
 use super::format_number;
 use crate::simulation::{Provenance, Sample, SampleSink};
 use crate::solve::SolveError;
 use std::io::Write;
 
-/// The head of a CSV result file: one `# ` line per provenance line (each escaped to one
-/// line), then the header row `t,<names>`. A name containing a comma, a quote or a line break
-/// is quoted as RFC 4180 says (`"a,b"`, `"say ""hi"""`).
+/// The head of a CSV result file: the header row `t,<names>`, then one `# ` line per
+/// provenance line (each escaped to one line). A name containing a comma, a quote or a line
+/// break, or starting with `#`, is quoted as RFC 4180 says (`"a,b"`, `"say ""hi"""`).
 pub fn csv_header(provenance: &Provenance, names: &[String]) -> String {
-    let mut head = String::new();
-    for line in provenance.lines() {
-        head.push_str("# ");
-        head.push_str(&line);
-        head.push('\n');
-    }
-    head.push('t');
+    let mut head = String::from("t");
     for name in names {
         head.push(',');
         if name.contains([',', '"', '\n', '\r']) || name.starts_with('#') {
@@ -29,6 +29,11 @@ pub fn csv_header(provenance: &Provenance, names: &[String]) -> String {
         }
     }
     head.push('\n');
+    for line in provenance.lines() {
+        head.push_str("# ");
+        head.push_str(&line);
+        head.push('\n');
+    }
     head
 }
 
@@ -129,8 +134,8 @@ mod tests {
         let text = String::from_utf8(sink.into_inner()).unwrap_or_default();
         assert_eq!(
             text,
-            "# linkdyn v\n# model m.toml sha256 0\n# set bodies.crank.name=\"a\\nb\"\n# dt = 0.1\n\
-             t,a.x,\"b,c.y\",\"q\"\"d\",\"#e\"\n\
+            "t,a.x,\"b,c.y\",\"q\"\"d\",\"#e\"\n\
+             # linkdyn v\n# model m.toml sha256 0\n# set bodies.crank.name=\"a\\nb\"\n# dt = 0.1\n\
              0.5,1,0.30000000000000004,-2.5e-7,3e15\n"
         );
     }

@@ -8,11 +8,14 @@
 //!   are renamed over their targets (the earlier CSV is restored if the second rename fails);
 //!   a lock file held from the first write to the commit keeps two runs on the same target
 //!   from mixing their files; [`check_target`] refuses targets that are not regular files;
+//! * [`write_npz`] writes a run kept in memory as a NumPy `.npz` archive (one array per
+//!   column, the provenance as JSON), for the same [`ResultPair`] in place of the CSV;
 //! * [`AtomicFile`] is one such file on its own (temporary file + rename).
 
 mod atomic;
 mod csv;
 mod lock;
+mod npz;
 mod pair;
 mod summary;
 mod target;
@@ -21,6 +24,7 @@ pub use crate::simulation::{Provenance, format_number};
 pub use atomic::AtomicFile;
 pub use csv::{CsvSink, csv_header};
 pub use lock::OutputLock;
+pub use npz::{PROVENANCE_MEMBER, check_npz_size, write_npz};
 pub use pair::{ResultPair, summary_path};
 pub use summary::write_json;
 pub use target::{check_output_file, check_target};

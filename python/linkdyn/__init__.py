@@ -1,0 +1,87 @@
+"""linkdyn: dynamics of planar linkages whose revolute joints may have clearance.
+
+Python bindings of the ``linkdyn`` Rust library: the same model files, the same numbers (bit
+for bit) as the ``linkdyn`` command, results as NumPy arrays.
+
+>>> import linkdyn
+>>> model = linkdyn.load("models/farahan2016.toml", set={"drivers.motor.speed_rpm": 3500})
+>>> result = model.run(revs=2)                    # the GIL is released while Rust integrates
+>>> result.t.shape == result["B.ex"].shape        # float64 arrays, one per column
+True
+
+Errors are :class:`LinkdynError` subclasses (:class:`ModelError`, :class:`SettingsError`,
+:class:`SolverError`, :class:`OutputError`) whose messages are the command line's.
+"""
+
+from typing import Any, Iterable, Mapping, Optional, Union
+import os
+
+from . import _linkdyn
+from ._errors import LinkdynError, ModelError, OutputError, SettingsError, SolverError
+from ._linkdyn import Model, Result
+
+__version__ = _linkdyn.version()
+
+Overrides = Union[Mapping[str, Any], Iterable[str], None]
+
+
+def _toml_value(value: Any) -> str:
+    """A Python value as TOML text for an override (``True`` → ``true``, lists → arrays);
+    a string is passed as written (a bare word is taken as a string, as on the command line).
+    """
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        # repr gives the shortest round-trip digits; TOML reads 'inf' and 'nan' too.
+        return repr(value)
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if hasattr(value, "item"):  # a NumPy scalar
+        return _toml_value(value.item())
+    raise TypeError(
+        f"set=: cannot write {type(value).__name__} {value!r} as a model value "
+        "(expected a number, bool, string or list)"
+    )
+
+
+def _overrides(set: Overrides) -> "list[str]":
+    if set is None:
+        return []
+    if isinstance(set, Mapping):
+        return [f"{k}={_toml_value(v)}" for k, v in set.items()]
+    if isinstance(set, str):
+        return [set]
+    return [str(s) for s in set]
+
+
+def load(path: Union[str, "os.PathLike[str]"], set: Overrides = None) -> Model:
+    """Reads and validates a model file (TOML).
+
+    ``set`` overrides fields before validation, as ``linkdyn run --set KEY=VALUE`` does: a
+    dict ``{"drivers.motor.speed_rpm": 3500}`` (dotted paths, array entries by name; values
+    are numbers, bools, strings or lists) or a list of ``"KEY=VALUE"`` strings, applied in
+    order. The overrides are recorded in every result's provenance.
+
+    Raises :class:`ModelError` (with ``file``, ``line``, ``column``, ``field`` where known).
+    """
+    return _linkdyn.load(os.fspath(path), _overrides(set))
+
+
+def version() -> str:
+    """linkdyn version and git commit of the compiled core."""
+    return _linkdyn.version()
+
+
+__all__ = [
+    "load",
+    "version",
+    "Model",
+    "Result",
+    "LinkdynError",
+    "ModelError",
+    "SettingsError",
+    "SolverError",
+    "OutputError",
+]

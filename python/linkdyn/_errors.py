@@ -1,0 +1,64 @@
+"""Exceptions raised by linkdyn, with the messages the ``linkdyn`` command prints.
+
+Every exception is a :class:`LinkdynError`; each also derives from the built-in exception a
+caller would expect, so ``except ValueError`` catches bad input without knowing linkdyn.
+
+=====================  ==========================================  ==========  =============
+exception              raised for                                  also a      CLI exit code
+=====================  ==========================================  ==========  =============
+:class:`ModelError`    a model file that cannot be read, parsed,   ValueError  2
+                       validated or assembled; a bad ``set=``
+:class:`SettingsError` a run setting out of range or not fitting   ValueError  2
+                       the model (``dt``, ``t_end``, ``rtol`` ...)
+:class:`SolverError`   a failed integration                        RuntimeError  3
+:class:`OutputError`   a result file or sink that cannot be        OSError     4
+                       written
+=====================  ==========================================  ==========  =============
+"""
+
+from typing import Optional
+
+
+class LinkdynError(Exception):
+    """Base class of every linkdyn error. ``str(e)`` is the message ``linkdyn`` prints after
+    ``error: `` for the same input."""
+
+
+class ModelError(LinkdynError, ValueError):
+    """A model file that cannot be read, parsed, validated or assembled, or an override
+    (``set=``) that cannot be applied.
+
+    Attributes (None where the error has no single place): ``file`` (path), ``line`` and
+    ``column`` (1-based), ``field`` (dotted path, array entries by name, as ``set=`` takes it).
+    """
+
+    file: Optional[str] = None
+    line: Optional[int] = None
+    column: Optional[int] = None
+    field: Optional[str] = None
+
+
+class SettingsError(LinkdynError, ValueError):
+    """A run setting that is out of range or does not fit the model; raised before any work.
+
+    Attribute ``option``: the setting by its keyword name (``dt``, ``t_end``, ``revs``,
+    ``rtol``, ``atol``, ``method``, ``formulation``, ``energy``, ``max_steps``).
+    """
+
+    option: Optional[str] = None
+
+
+class SolverError(LinkdynError, RuntimeError):
+    """A failed integration. Attribute ``time``: the time reached (s), where known."""
+
+    time: Optional[float] = None
+
+
+class OutputError(LinkdynError, OSError):
+    """A result file (or a sample sink) that cannot be written. Attribute ``time``: the time
+    of the sample being written (s), where known."""
+
+    time: Optional[float] = None
+
+
+__all__ = ["LinkdynError", "ModelError", "SettingsError", "SolverError", "OutputError"]
