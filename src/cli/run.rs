@@ -1,11 +1,11 @@
-//! `linkdyn run MODEL …`: integrate and write `F.csv` plus the summary `F.json`, streamed and
-//! committed together (see [`linkdyn::output::ResultPair`]).
+//! `linkdyn run MODEL …`: integrate and write `F.csv`, the summary `F.json` and the impact log
+//! `F.impacts.csv`, streamed and committed together (see [`linkdyn::output::ResultPair`]).
 
 use super::args::SolveArgs;
 use super::progress::Watched;
 use super::{Failure, in_model, interrupt};
 use clap::Args;
-use linkdyn::output::{CsvSink, ResultPair};
+use linkdyn::output::{CsvSink, ResultPair, impacts_csv, impacts_path};
 use linkdyn::simulation::{FormulationKind, Simulation};
 use std::path::PathBuf;
 
@@ -23,7 +23,8 @@ pub struct RunArgs {
     /// balance to the summary.
     #[arg(long)]
     energy: bool,
-    /// Output CSV file; the summary goes beside it with the extension `.json`.
+    /// Output CSV file; the summary goes beside it with the extension `.json`, the impact log
+    /// with `.impacts.csv`.
     #[arg(long)]
     out: PathBuf,
 }
@@ -42,7 +43,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         .formulation(args.formulation)
         .energy(args.energy);
     let sim = Simulation::new(&model, options).map_err(|e| in_model(&args.model, e))?;
-    let mut pair = ResultPair::begin(&args.out, Some(&args.model))?;
+    let mut pair =
+        ResultPair::begin_with(&args.out, Some(&args.model), &[impacts_path(&args.out)])?;
     interrupt::remove_on_abort(pair.scratch_paths());
     let provenance = sim.provenance();
     let label = args.out.display().to_string();
@@ -64,8 +66,13 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         drop(pair);
         return Err(Failure::interrupted());
     }
-    pair.commit(&summary)?;
-    let impacts: usize = summary.clearance_joints.iter().map(|c| c.impacts).sum();
+    let log = impacts_csv(&provenance, &summary);
+    pair.commit_with_files(&summary, &[log])?;
+    let impacts: usize = summary
+        .clearance_joints
+        .iter()
+        .map(|c| c.impact_count)
+        .sum();
     let stats = &summary.solver_stats;
     eprintln!(
         "{} ({}): {} samples to {} in {:.3} s ({} steps, {} rejected, {} RHS evaluations, {} impacts, max |Phi| = {:.2e})",
@@ -80,5 +87,18 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         impacts,
         summary.max_constraint_violation
     );
+    for joint in &summary.clearance_joints {
+        if let Some(p) = &joint.permanent_contact {
+            eprintln!(
+                "clearance joint {}: permanent contact since t = {:.6} s (impact {} of {}, open for {:.4} s to the end, at least {:.4} s counts)",
+                joint.joint,
+                p.since,
+                p.impact_index,
+                joint.impact_count,
+                p.duration,
+                p.min_duration
+            );
+        }
+    }
     Ok(())
 }
