@@ -112,7 +112,7 @@ pub fn maximise<E>(
     let mut best = if fc >= fd { (c, fc) } else { (d, fd) };
     // The bracket shrinks geometrically; the cap only guards against a NaN width.
     for _ in 0..200 {
-        if !(b - a > t_tol) {
+        if (b - a).partial_cmp(&t_tol) != Some(std::cmp::Ordering::Greater) {
             break;
         }
         if fc >= fd {

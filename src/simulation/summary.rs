@@ -389,7 +389,7 @@ impl SummaryBuilder {
         let last = j.log.last()?;
         let duration = self.t_last - last.t;
         let min_duration = self.min_permanent_duration();
-        (last.open && duration >= min_duration).then(|| PermanentContact {
+        (last.open && duration >= min_duration).then_some(PermanentContact {
             since: last.t,
             impact_index: last.index,
             driver_angle: last.driver_angle,
