@@ -399,3 +399,71 @@ fn the_cost_of_the_peak_search_is_counted() {
         plain.steps
     );
 }
+
+#[test]
+fn run_writes_the_impact_log_beside_the_csv_and_prints_permanent_contact() {
+    let dir = std::env::temp_dir().join(format!("linkdyn-impact-log-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::create_dir_all(&dir);
+    let out = dir.join("r.csv");
+    let result = std::process::Command::new(env!("CARGO_BIN_EXE_linkdyn"))
+        .args(["run", MODEL, "--revs", "2", "--out"])
+        .arg(&out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("clearance joint B: permanent contact since t = 0.0246"),
+        "{stderr}"
+    );
+    let text = std::fs::read_to_string(dir.join("r.impacts.csv"))
+        .unwrap_or_else(|e| panic!("r.impacts.csv: {e}"));
+    let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(
+        rows.first().copied(),
+        Some(
+            "joint,index,t,driver_angle,impact_velocity,peak_normal_force,peak_penetration,duration"
+        )
+    );
+    let json = std::fs::read_to_string(dir.join("r.json")).unwrap_or_default();
+    let summary: serde_json::Value =
+        serde_json::from_str(&json).unwrap_or_else(|e| panic!("r.json: {e}"));
+    let log = summary["clearance_joints"][0]["impacts"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
+    assert_eq!(rows.len() - 1, log.len(), "one row per logged impact");
+    for (row, entry) in rows[1..].iter().zip(&log) {
+        let fields: Vec<&str> = row.split(',').collect();
+        let number = |k: usize| fields.get(k).and_then(|f| f.parse::<f64>().ok());
+        assert_eq!(fields.first().copied(), Some("B"), "{row}");
+        // Both files hold the same f64s in shortest round-trip digits; serde_json's default
+        // parser (without `float_roundtrip`) may read them back 1 ulp off: 4 ulps allowed.
+        let same = |k: usize, key: &str| {
+            let (a, b) = (
+                number(k).unwrap_or(f64::NAN),
+                entry[key].as_f64().unwrap_or(f64::NAN),
+            );
+            assert!(
+                (a - b).abs() <= 4.0 * f64::EPSILON * a.abs(),
+                "{key}: CSV {a:e} vs JSON {b:e} in {row}"
+            );
+        };
+        same(2, "t");
+        same(4, "impact_velocity");
+        same(5, "peak_normal_force");
+        same(6, "peak_penetration");
+        if entry["duration"].is_null() {
+            assert_eq!(fields.get(7).copied(), Some(""), "{row}");
+        } else {
+            same(7, "duration");
+        }
+    }
+    assert!(
+        rows.last().is_some_and(|r| r.ends_with(',')),
+        "the open last contact has an empty duration"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
