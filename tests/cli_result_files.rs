@@ -182,7 +182,7 @@ fn a_failed_run_leaves_the_earlier_pair_untouched_and_no_temporary_files() {
     assert_eq!(code, 3, "{stderr}");
     assert_eq!(
         entries(&dir),
-        ["r.csv", "r.json"],
+        ["r.csv", "r.impacts.csv", "r.json"],
         "no temporary or lock file"
     );
     assert_eq!(read(&csv), before_csv, "earlier CSV untouched");
@@ -281,7 +281,11 @@ fn sigterm_or_sigint_mid_run_leaves_nothing_but_the_earlier_pair() {
             "error: interrupted; no result files were written",
             "{name}: stderr not a terminal, so no progress either"
         );
-        assert_eq!(entries(&dir), ["r.csv", "r.json"], "{name}: leftovers");
+        assert_eq!(
+            entries(&dir),
+            ["r.csv", "r.impacts.csv", "r.json"],
+            "{name}: leftovers"
+        );
         assert_eq!(read(&csv), before_csv, "{name}: earlier CSV untouched");
         assert_eq!(
             read(&dir.join("r.json")),
@@ -400,7 +404,11 @@ fn concurrent_runs_on_one_out_never_mix_their_pair() {
         }
     }
     assert!(committed >= 1, "at least the first run commits");
-    assert_eq!(entries(&dir), ["r.csv", "r.json"], "no leftovers");
+    assert_eq!(
+        entries(&dir),
+        ["r.csv", "r.impacts.csv", "r.json"],
+        "no leftovers"
+    );
     let dt_csv = read(&csv)
         .lines()
         .find_map(|l| l.strip_prefix("# dt = ").map(str::to_string));

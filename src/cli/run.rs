@@ -1,12 +1,12 @@
 //! `linkdyn run MODEL …`: integrate and write `F.csv` (streamed) or `F.npz` (`--format npz`,
-//! written from memory after the run) plus the summary `F.json`, committed together (see
-//! [`linkdyn::output::ResultPair`]).
+//! written from memory after the run), the summary `F.json` and the impact log
+//! `F.impacts.csv`, committed together (see [`linkdyn::output::ResultPair`]).
 
 use super::args::SolveArgs;
 use super::progress::Watched;
 use super::{Failure, in_model, interrupt};
 use clap::{Args, ValueEnum};
-use linkdyn::output::{CsvSink, ResultPair, check_npz_size, write_npz};
+use linkdyn::output::{CsvSink, ResultPair, check_npz_size, impacts_csv, impacts_path, write_npz};
 use linkdyn::simulation::{Columns, FormulationKind, RunSummary, Simulation};
 use std::path::PathBuf;
 
@@ -25,7 +25,7 @@ pub struct RunArgs {
     #[arg(long)]
     energy: bool,
     /// Output file (CSV or NPZ, see --format); the summary goes beside it with the extension
-    /// `.json`.
+    /// `.json`, the impact log with `.impacts.csv`.
     #[arg(long)]
     out: PathBuf,
     /// Result file format: csv (streamed to disk as the run goes) or npz (NumPy: one float64
@@ -60,7 +60,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     if args.format == Format::Npz {
         check_npz_size(&args.out, sim.expected_samples(), sim.column_names())?;
     }
-    let mut pair = ResultPair::begin(&args.out, Some(&args.model))?;
+    let mut pair =
+        ResultPair::begin_with(&args.out, Some(&args.model), &[impacts_path(&args.out)])?;
     interrupt::remove_on_abort(pair.scratch_paths());
     let result = match args.format {
         Format::Csv => run_csv(&sim, &mut pair, args),
@@ -76,8 +77,13 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         drop(pair);
         return Err(Failure::interrupted());
     }
-    pair.commit(&summary)?;
-    let impacts: usize = summary.clearance_joints.iter().map(|c| c.impacts).sum();
+    let log = impacts_csv(&sim.provenance(), &summary);
+    pair.commit_with_files(&summary, &[log])?;
+    let impacts: usize = summary
+        .clearance_joints
+        .iter()
+        .map(|c| c.impact_count)
+        .sum();
     let stats = &summary.solver_stats;
     eprintln!(
         "{} ({}): {} samples to {} in {:.3} s ({} steps, {} rejected, {} RHS evaluations, {} impacts, max |Phi| = {:.2e})",
@@ -92,6 +98,19 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         impacts,
         summary.max_constraint_violation
     );
+    for joint in &summary.clearance_joints {
+        if let Some(p) = &joint.permanent_contact {
+            eprintln!(
+                "clearance joint {}: permanent contact since t = {:.6} s (impact {} of {}, open for {:.4} s to the end, at least {:.4} s counts)",
+                joint.joint,
+                p.since,
+                p.impact_index,
+                joint.impact_count,
+                p.duration,
+                p.min_duration
+            );
+        }
+    }
     Ok(())
 }
 

@@ -1,11 +1,13 @@
-//! Result files: a CSV of sampled outputs and a JSON summary, both with provenance (model,
-//! settings, version), written whole or not at all.
+//! Result files: a CSV of sampled outputs, a JSON summary and the impact log
+//! `F.impacts.csv` ([`impacts_csv`]), all with provenance (model, settings, version), written
+//! whole or not at all.
 //!
 //! * [`CsvSink`] streams the rows of a run into the CSV as the samples arrive (O(1) memory in
 //!   the run length);
-//! * [`ResultPair`] makes the CSV and its JSON summary appear together or not at all: each is
-//!   written to its own temporary file beside its target, both are flushed to disk, then both
-//!   are renamed over their targets (the earlier CSV is restored if the second rename fails);
+//! * [`ResultPair`] makes the CSV, its JSON summary and any further files (the impact log)
+//!   appear together or not at all: each is written to its own temporary file beside its
+//!   target, all are flushed to disk, then all are renamed over their targets (the earlier
+//!   files are restored if a later rename fails);
 //!   a lock file held from the first write to the commit keeps two runs on the same target
 //!   from mixing their files; [`check_target`] refuses targets that are not regular files;
 //! * [`write_npz`] writes a run kept in memory as a NumPy `.npz` archive (one array per
@@ -14,6 +16,7 @@
 
 mod atomic;
 mod csv;
+mod impacts;
 mod lock;
 mod npz;
 mod pair;
@@ -23,9 +26,10 @@ mod target;
 pub use crate::simulation::{Provenance, format_number};
 pub use atomic::AtomicFile;
 pub use csv::{CsvSink, csv_header};
+pub use impacts::{IMPACTS_HEADER, impacts_csv};
 pub use lock::OutputLock;
 pub use npz::{PROVENANCE_MEMBER, check_npz_size, write_npz};
-pub use pair::{ResultPair, summary_path};
+pub use pair::{ResultPair, impacts_path, summary_path};
 pub use summary::write_json;
 pub use target::{check_output_file, check_target};
 

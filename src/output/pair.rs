@@ -1,9 +1,10 @@
-//! [`ResultPair`]: a CSV and its JSON summary, committed together or not at all.
+//! [`ResultPair`]: a CSV, its JSON summary and any further result files (the impact log),
+//! committed together or not at all.
 
 use super::atomic::AtomicFile;
 use super::lock::OutputLock;
 use super::summary::json_text;
-use super::target::check_target;
+use super::target::{check_output_file, check_target};
 use super::{OutputError, io_error};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -13,22 +14,29 @@ pub fn summary_path(csv: &Path) -> PathBuf {
     csv.with_extension("json")
 }
 
-/// A CSV and its JSON summary being written.
+/// The impact log beside a CSV: `F.csv` → `F.impacts.csv`.
+pub fn impacts_path(csv: &Path) -> PathBuf {
+    csv.with_extension("impacts.csv")
+}
+
+/// A CSV, its JSON summary and optional further files (e.g. the impact log) being written.
 ///
-/// [`ResultPair::begin`] checks the target ([`check_target`]), takes the target's
-/// [`OutputLock`] and creates the CSV's temporary file; stream the rows into
-/// [`ResultPair::csv`], then [`ResultPair::commit`] writes the summary to its own temporary
-/// file, flushes both to disk and renames both over their targets. If anything fails, or the
-/// pair is dropped uncommitted, both temporary files and the lock file are removed and an
-/// earlier pair at the target is left untouched: if the summary's rename fails after the
-/// CSV's succeeded, the earlier CSV is put back (kept meanwhile as a hard link
-/// `F.csv.<pid>.old`).
+/// [`ResultPair::begin`] (or [`ResultPair::begin_with`] for further files) checks the targets
+/// ([`check_target`], [`check_output_file`]), takes the target's [`OutputLock`] and creates the
+/// CSV's temporary file; stream the rows into [`ResultPair::csv`], then [`ResultPair::commit`]
+/// (or [`ResultPair::commit_with_files`]) writes the summary and the further files to their
+/// own temporary files, flushes all to disk and renames each over its target. If anything
+/// fails, or the pair is dropped uncommitted, every temporary file and the lock file are
+/// removed and the earlier files at the targets are left untouched: if a rename fails after
+/// earlier ones succeeded, the files they replaced are put back (kept meanwhile as hard links
+/// `F.<pid>.old`).
 ///
-/// Between the two renames (microseconds) a reader that does not take the lock can see the
-/// new CSV beside the earlier summary; both files carry the full provenance to tell.
+/// Between the renames (microseconds) a reader that does not take the lock can see a new file
+/// beside earlier ones; every file carries the full provenance to tell.
 pub struct ResultPair {
     csv: AtomicFile,
     json: PathBuf,
+    extras: Vec<PathBuf>,
     // Declared last: dropped (released, file removed) after the temporary files are gone.
     _lock: OutputLock,
 }
@@ -37,12 +45,34 @@ impl ResultPair {
     /// Starts writing `csv` and its summary; `model` is the model file, which may not be
     /// overwritten.
     pub fn begin(csv: &Path, model: Option<&Path>) -> Result<Self, OutputError> {
+        Self::begin_with(csv, model, &[])
+    }
+
+    /// [`ResultPair::begin`] with further files `extras` committed with the pair (their text
+    /// is given to [`ResultPair::commit_with_files`], in this order). Each is checked as the
+    /// CSV is; a further file may not be the CSV or its summary.
+    pub fn begin_with(
+        csv: &Path,
+        model: Option<&Path>,
+        extras: &[PathBuf],
+    ) -> Result<Self, OutputError> {
         check_target(csv, model)?;
+        let json = summary_path(csv);
+        for extra in extras {
+            if extra == csv || *extra == json {
+                return Err(OutputError::Target {
+                    path: extra.display().to_string(),
+                    reason: "is also the CSV or its summary; choose another name".into(),
+                });
+            }
+            check_output_file(extra, model)?;
+        }
         let lock = OutputLock::acquire(csv)?;
         let file = AtomicFile::create(csv)?;
         Ok(ResultPair {
             csv: file,
-            json: summary_path(csv),
+            json,
+            extras: extras.to_vec(),
             _lock: lock,
         })
     }
@@ -68,46 +98,103 @@ impl ResultPair {
         };
         let pid = std::process::id();
         let csv = self.csv.target();
-        vec![
+        let mut paths = vec![
             self.csv.temp_path().to_path_buf(),
             with(&self.json, format!(".{pid}.tmp")),
             with(csv, format!(".{pid}.old")),
-            OutputLock::path_for(csv),
-        ]
+            with(&self.json, format!(".{pid}.old")),
+        ];
+        for extra in &self.extras {
+            paths.push(with(extra, format!(".{pid}.tmp")));
+            paths.push(with(extra, format!(".{pid}.old")));
+        }
+        paths.push(OutputLock::path_for(csv));
+        paths
     }
 
     /// Writes `summary` as pretty JSON and makes both files appear.
     pub fn commit<T: Serialize>(self, summary: &T) -> Result<(), OutputError> {
-        self.commit_with(summary, |_| Ok(()))
+        self.commit_with_files(summary, &[])
     }
 
-    /// [`ResultPair::commit`] with a hook between the two renames (tests inject failures).
+    /// Writes `summary` as pretty JSON and `texts[i]` to the i-th further file given to
+    /// [`ResultPair::begin_with`], and makes them all appear with the CSV. Errors: a count of
+    /// texts other than the further files' (nothing is written), or an I/O error.
+    pub fn commit_with_files<T: Serialize>(
+        self,
+        summary: &T,
+        texts: &[String],
+    ) -> Result<(), OutputError> {
+        self.commit_with(summary, texts, |_| Ok(()))
+    }
+
+    /// [`ResultPair::commit_with_files`] with a hook before each rename after the CSV's (tests
+    /// inject failures).
     fn commit_with<T: Serialize>(
         self,
         summary: &T,
-        between: impl FnOnce(&Path) -> Result<(), OutputError>,
+        texts: &[String],
+        mut before_rename: impl FnMut(&Path) -> Result<(), OutputError>,
     ) -> Result<(), OutputError> {
         let ResultPair {
             mut csv,
             json: json_path,
+            extras,
             _lock,
         } = self;
+        if texts.len() != extras.len() {
+            return Err(OutputError::Io {
+                path: csv.target().display().to_string(),
+                reason: format!(
+                    "{} further result files were opened but {} texts given (a bug)",
+                    extras.len(),
+                    texts.len()
+                ),
+            });
+        }
+        let mut others = Vec::with_capacity(1 + extras.len());
         let mut json = AtomicFile::create(&json_path)?;
         json.write_str(&json_text(&json_path, summary)?)?;
-        json.sync()?;
+        others.push(json);
+        for (path, text) in extras.iter().zip(texts) {
+            let mut file = AtomicFile::create(path)?;
+            file.write_str(text)?;
+            others.push(file);
+        }
+        for file in &mut others {
+            file.sync()?;
+        }
         csv.sync()?;
+        // Each target's earlier file is kept until all renames succeeded; on a failure every
+        // target renamed so far gets its earlier file back (or is removed if it had none).
+        let mut done: Vec<(PathBuf, Backup)> = Vec::with_capacity(2 + extras.len());
         let target = csv.target().to_path_buf();
         let backup = Backup::of(&target)?;
         csv.rename_into_place()?;
-        // From here on the CSV target holds the new file: undo that on any failure.
-        let result = between(&json_path).and_then(|()| json.rename_into_place());
-        match result {
-            Ok(()) => {
-                backup.discard();
-                Ok(())
+        done.push((target, backup));
+        let mut result = Ok(());
+        for file in others {
+            let target = file.target().to_path_buf();
+            let step = before_rename(&target)
+                .and_then(|()| Backup::of(&target))
+                .and_then(|backup| {
+                    file.rename_into_place()?;
+                    Ok(backup)
+                });
+            match step {
+                Ok(backup) => done.push((target, backup)),
+                Err(e) => {
+                    result = Err(e);
+                    break;
+                }
             }
+        }
+        match result {
+            Ok(()) => Ok(()),
             Err(e) => {
-                backup.restore(&target);
+                for (target, backup) in done.into_iter().rev() {
+                    backup.restore(&target);
+                }
                 Err(e)
             }
         }
@@ -146,8 +233,6 @@ impl Backup {
             }
         }
     }
-
-    fn discard(self) {}
 }
 
 impl Drop for Backup {
@@ -195,7 +280,7 @@ mod tests {
         assert_eq!(listing(&d), ["r.csv", "r.json"]);
         let mut pair = ResultPair::begin(&csv, None).unwrap_or_else(|e| panic!("{e}"));
         assert!(pair.csv().write_str("new csv\n").is_ok());
-        let failed = pair.commit_with(&"new", |json| {
+        let failed = pair.commit_with(&"new", &[], |json| {
             Err(io_error(json, std::io::Error::other("injected failure")))
         });
         assert!(failed.is_err());
@@ -220,7 +305,7 @@ mod tests {
         let csv = d.join("r.csv");
         let mut pair = ResultPair::begin(&csv, None).unwrap_or_else(|e| panic!("{e}"));
         assert!(pair.csv().write_str("new csv\n").is_ok());
-        let failed = pair.commit_with(&"new", |json| {
+        let failed = pair.commit_with(&"new", &[], |json| {
             Err(io_error(json, std::io::Error::other("injected failure")))
         });
         assert!(failed.is_err());
@@ -229,6 +314,62 @@ mod tests {
         let pair = ResultPair::begin(&csv, None).unwrap_or_else(|e| panic!("{e}"));
         drop(pair);
         assert!(listing(&d).is_empty(), "left: {:?}", listing(&d));
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    fn write3(csv: &Path, text: &str) -> Result<(), OutputError> {
+        let mut pair = ResultPair::begin_with(csv, None, &[impacts_path(csv)])?;
+        pair.csv().write_str(text)?;
+        pair.commit_with_files(&text, &[format!("log {text}")])
+    }
+
+    #[test]
+    fn a_failed_third_rename_puts_both_earlier_files_back() {
+        let d = dir("third");
+        let csv = d.join("r.csv");
+        assert!(write3(&csv, "old\n").is_ok());
+        assert_eq!(listing(&d), ["r.csv", "r.impacts.csv", "r.json"]);
+        let read = |p: &str| std::fs::read_to_string(d.join(p)).unwrap_or_default();
+        assert_eq!(read("r.impacts.csv"), "log old\n");
+        let mut pair = ResultPair::begin_with(&csv, None, &[impacts_path(&csv)])
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(pair.csv().write_str("new\n").is_ok());
+        // The summary's rename goes through, the impact log's fails.
+        let failed = pair.commit_with(&"new", &["log new\n".to_string()], |p| {
+            if p.ends_with("r.impacts.csv") {
+                Err(io_error(p, std::io::Error::other("injected failure")))
+            } else {
+                Ok(())
+            }
+        });
+        assert!(failed.is_err());
+        assert_eq!(
+            listing(&d),
+            ["r.csv", "r.impacts.csv", "r.json"],
+            "no temporary, backup or lock file left"
+        );
+        assert_eq!(read("r.csv"), "old\n", "earlier CSV restored");
+        assert_eq!(read("r.json"), "\"old\\n\"\n", "earlier summary restored");
+        assert_eq!(read("r.impacts.csv"), "log old\n", "earlier log untouched");
+        // A fresh target: a failure leaves nothing.
+        let fresh = d.join("f.csv");
+        let mut pair = ResultPair::begin_with(&fresh, None, &[impacts_path(&fresh)])
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(pair.csv().write_str("new\n").is_ok());
+        let failed = pair.commit_with(&"new", &["x".to_string()], |p| {
+            if p.ends_with("f.impacts.csv") {
+                Err(io_error(p, std::io::Error::other("injected failure")))
+            } else {
+                Ok(())
+            }
+        });
+        assert!(failed.is_err());
+        assert_eq!(listing(&d), ["r.csv", "r.impacts.csv", "r.json"]);
+        // A wrong number of texts writes nothing.
+        let pair = ResultPair::begin_with(&fresh, None, &[impacts_path(&fresh)])
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(pair.commit(&"x").is_err(), "one further file, no text");
+        assert_eq!(listing(&d), ["r.csv", "r.impacts.csv", "r.json"]);
         let _ = std::fs::remove_dir_all(&d);
     }
 

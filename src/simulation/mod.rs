@@ -27,12 +27,14 @@
 //! # Ok::<(), linkdyn::Error>(())
 //! ```
 
+pub mod impacts;
 mod options;
 mod provenance;
 mod sink;
 mod summary;
 mod trajectory;
 
+pub use impacts::{ContactPoint, ContactProbe, Impact, PermanentContact};
 pub use options::{
     EndTime, FormulationKind, MAX_OUTPUT_VALUES, SimulationOptions, check_sampling, end_time,
 };
@@ -202,11 +204,11 @@ impl Simulation {
     /// the sink's [`SolveError::Sink`](crate::solve::SolveError::Sink)).
     pub fn run<S: SampleSink + ?Sized>(&self, sink: &mut S) -> Result<RunSummary> {
         let started = Instant::now();
-        let mut observed = Observed::new(
-            SummaryBuilder::new(&self.names, &self.clearance_joints),
-            sink,
-            self.names.len(),
-        );
+        let mut summary = SummaryBuilder::new(&self.names, &self.clearance_joints);
+        if let [d] = self.model.drivers.as_slice() {
+            summary = summary.driver(d.initial_angle, d.speed);
+        }
+        let mut observed = Observed::new(summary, sink, self.names.len());
         let stats = match &self.formulation {
             Built::Dae(f) => self.integrate(&mut (**f).clone(), &mut observed)?,
             Built::Reduced(f) => self.integrate(&mut (**f).clone(), &mut observed)?,
@@ -235,7 +237,7 @@ impl Simulation {
         })
     }
 
-    fn integrate<F: Formulation + Outputs, S: SampleSink + ?Sized>(
+    fn integrate<F: Formulation + Outputs + impacts::ContactProbe, S: SampleSink + ?Sized>(
         &self,
         f: &mut F,
         observed: &mut Observed<'_, S>,

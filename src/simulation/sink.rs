@@ -3,9 +3,10 @@
 //! for the summary and the consumer (a CSV file, a [`Trajectory`](super::Trajectory), an
 //! analysis) alike.
 
+use super::impacts::{ContactProbe, PeakSearch};
 use super::summary::SummaryBuilder;
-use crate::formulation::{Formulation, Outputs};
-use crate::solve::{EventRecord, Sink, SolveError};
+use crate::formulation::{Crossing, Formulation, Outputs};
+use crate::solve::{DenseStep, EventRecord, Sink, SolveError};
 use std::time::{Duration, Instant};
 
 /// One output sample of a run.
@@ -58,13 +59,15 @@ impl SampleSink for Discard {
 }
 
 /// The [`solve::Sink`](Sink) a simulation integrates with: evaluates the outputs once per
-/// sample, updates the summary, and forwards both to the consumer.
+/// sample, updates the summary, locates the contact peaks of every step in contact on its
+/// dense output, and forwards samples and events to the consumer.
 pub(super) struct Observed<'s, S: SampleSink + ?Sized> {
     pub(super) summary: SummaryBuilder,
     pub(super) consumer: &'s mut S,
     /// Wall time spent in the consumer (s), kept apart from the integration's.
     pub(super) consumer_time: Duration,
     row: Vec<f64>,
+    peaks: PeakSearch,
 }
 
 impl<'s, S: SampleSink + ?Sized> Observed<'s, S> {
@@ -74,16 +77,17 @@ impl<'s, S: SampleSink + ?Sized> Observed<'s, S> {
             consumer,
             consumer_time: Duration::ZERO,
             row: Vec::with_capacity(columns),
+            peaks: PeakSearch::default(),
         }
     }
 }
 
-impl<F: Formulation + Outputs, S: SampleSink + ?Sized> Sink<F> for Observed<'_, S> {
+impl<F: Formulation + Outputs + ContactProbe, S: SampleSink + ?Sized> Sink<F> for Observed<'_, S> {
     fn sample(&mut self, f: &F, t: f64, y: &[f64]) -> Result<(), SolveError> {
         let violation = f
             .outputs_into(t, y, &mut self.row)
             .map_err(|source| SolveError::Formulation { t, source })?;
-        self.summary.sample(&self.row, violation);
+        self.summary.sample_at(t, &self.row, violation);
         let started = Instant::now();
         let result = self.consumer.sample(&Sample {
             t,
@@ -97,17 +101,41 @@ impl<F: Formulation + Outputs, S: SampleSink + ?Sized> Sink<F> for Observed<'_, 
 
     fn event(
         &mut self,
-        _f: &F,
+        f: &F,
         event: &EventRecord,
         _before: &[f64],
-        _after: &[f64],
+        after: &[f64],
     ) -> Result<(), SolveError> {
-        self.summary.event(event);
+        let impact_velocity = if event.crossing == Crossing::Rising
+            && event.index < self.summary.n_clearance_joints()
+        {
+            // δ̇⁽⁻⁾ as the formulation stored it at the event (in the state after it).
+            f.contact_probe(event.index, event.t, after)
+                .map_err(|source| SolveError::Formulation { t: event.t, source })?
+                .impact_velocity
+        } else {
+            f64::NAN
+        };
+        self.summary.event(event, impact_velocity);
         self.consumer.event(event)
     }
 
-    // DENSE-OUTPUT HOOK (for the solvers helper): when `Sink` gains a per-step method with the
-    // step's dense output, implement it here and pass it to `SummaryBuilder` (see the marker
-    // in `summary.rs`) so that peak forces and penetrations are the true maxima between
-    // samples; forward it to the consumer too if `SampleSink` grows the same method.
+    /// The true peaks of every clearance joint in contact during the step (nothing at all
+    /// without clearance joints, or while every joint is free).
+    fn on_step(&mut self, step: &mut DenseStep<'_, F>) -> Result<(), SolveError> {
+        let n = self.summary.n_clearance_joints();
+        if n == 0 {
+            return Ok(());
+        }
+        let (a, b) = step.range();
+        for k in 0..n {
+            if self.summary.in_contact_during(k, b) {
+                let floor = self.summary.contact_peaks_so_far(k, a);
+                let peak = self.peaks.step_peak(step, k, floor)?;
+                self.summary.step_peak(k, a, b, &peak);
+            }
+        }
+        self.summary.peak_search_interpolations = self.peaks.interpolations;
+        Ok(())
+    }
 }

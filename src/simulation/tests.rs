@@ -131,7 +131,7 @@ fn run_to_memory_gives_the_numbers_of_a_direct_integration_and_the_same_summary(
         impacts.len() > 3,
         "the quarter turn has impacts: {impacts:?}"
     );
-    assert_eq!(b.impacts, impacts.len());
+    assert_eq!(b.impact_count, impacts.len());
     assert_eq!(b.first_impact_times, impacts[..impacts.len().min(10)]);
     let max = |c: &str| {
         rec.column(c)
@@ -139,8 +139,25 @@ fn run_to_memory_gives_the_numbers_of_a_direct_integration_and_the_same_summary(
             .into_iter()
             .fold(f64::NEG_INFINITY, f64::max)
     };
-    assert_eq!(b.max_penetration, max("B.delta"));
-    assert_eq!(b.peak_normal_force, max("B.fn"));
+    // The true peaks are located between the samples: never below the sampled maxima, and
+    // the largest of the impact log's peaks (the joint starts free, so every contact is logged).
+    assert!(
+        b.max_penetration >= max("B.delta"),
+        "{} vs sampled {}",
+        b.max_penetration,
+        max("B.delta")
+    );
+    assert!(
+        b.peak_normal_force >= max("B.fn"),
+        "{} vs sampled {}",
+        b.peak_normal_force,
+        max("B.fn")
+    );
+    let log_max = |f: fn(&crate::simulation::Impact) -> f64| {
+        b.impacts.iter().map(f).fold(f64::NEG_INFINITY, f64::max)
+    };
+    assert_eq!(b.peak_normal_force, log_max(|i| i.peak_normal_force));
+    assert_eq!(b.max_penetration, log_max(|i| i.peak_penetration));
     let e = s
         .energy_balance
         .as_ref()
