@@ -79,6 +79,7 @@ pub mod error;
 pub mod events;
 pub mod integrate;
 pub mod options;
+pub mod radau5;
 pub mod record;
 mod rk;
 pub mod stats;
