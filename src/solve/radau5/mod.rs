@@ -44,6 +44,10 @@
 //! atol' + rtol'·|y_i| at the start of the step, and components masked out by
 //! [`Radau5Settings::error_mask`] are left out of the error and Newton norms.
 //!
+//! **Layout.** [`Radau5Core`] (`core.rs`) is the method: one attempt from a state the caller
+//! owns, as the integrator trait of the driver wants it. [`Radau5`] is a small stand-alone
+//! driver around it (clamps, recoverable retries, counters) without event location.
+//!
 //! **Allocation.** All buffers are allocated by [`Radau5::new`]; stepping allocates nothing.
 //!
 //! # References
@@ -53,25 +57,21 @@
 //! 2. K. Gustafsson, "Control-theoretic techniques for stepsize selection in implicit
 //!    Runge–Kutta methods", *ACM Transactions on Mathematical Software* 20(4), 496–517, 1994.
 
+mod core;
 mod linalg;
 mod settings;
-mod step;
 mod tableau;
 
+pub use self::core::{Outcome, Radau5Core, Rejection};
 pub use settings::{Radau5Settings, Radau5Stats};
 
-use crate::formulation::{Formulation, FormulationError};
+use crate::formulation::Formulation;
 use crate::solve::{SolveError, SolverOptions};
-use linalg::{ComplexLu, RealLu};
-use tableau::{C1M1, C2M1, Eigen};
 
-/// Unit roundoff as RADAU5 uses it (`UROUND`).
-const UROUND: f64 = 1e-16;
-
-/// The Radau IIA (order 5) integrator of one run from t0 to t_end (forward only).
+/// A stand-alone Radau IIA (order 5) run from t0 to t_end (forward only), without events.
 ///
 /// It does not hold the formulation: every call that evaluates the equations takes it, so
-/// that an event handler may change it between steps (then call [`Radau5::restart`]).
+/// that a caller may change it between steps (then call [`Radau5::restart`]).
 ///
 /// ```
 /// use linkdyn::formulation::{Formulation, FormulationError};
@@ -98,58 +98,19 @@ const UROUND: f64 = 1e-16;
 /// # Ok::<(), linkdyn::solve::SolveError>(())
 /// ```
 pub struct Radau5 {
-    n: usize,
+    core: Radau5Core,
     opts: SolverOptions,
-    settings: Radau5Settings,
-    /// Tolerances in use (after Hairer's transform) and the Newton stopping tolerance.
-    rtol: f64,
-    atol: f64,
-    newton_tol: f64,
-    eig: Eigen,
+    n: usize,
     t_end: f64,
-    /// Current time, state and f(t, y).
+    /// Current time and state.
     t: f64,
     y: Vec<f64>,
+    /// f(t, y) at a restart.
     f0: Vec<f64>,
-    /// Error scale atol' + rtol'·|y_i| at the current state.
-    scal: Vec<f64>,
-    /// Error-controlled components.
-    controlled: Vec<bool>,
-    n_controlled: usize,
-    /// Jacobian (row-major), whether it was evaluated at the current (t, y), whether the next
-    /// attempt must evaluate it.
-    jac: Vec<f64>,
-    jac_current: bool,
-    need_jac: bool,
-    jac_work: Vec<f64>,
-    e1: RealLu,
-    e2: ComplexLu,
-    /// Step size of the LU factors in `e1`, `e2` (NaN: none valid).
-    lu_h: f64,
-    /// Stage increments Z_i, transformed W_i, stage values / Newton corrections.
-    z: [Vec<f64>; 3],
-    w: [Vec<f64>; 3],
-    fs: [Vec<f64>; 3],
-    y_stage: Vec<f64>,
-    err_vec: Vec<f64>,
-    err_rhs: Vec<f64>,
-    /// Last accepted step: [t_old, t_old + h_old], end state y_new, Newton-form coefficients
-    /// of the collocation polynomial; the dense output is valid on [t_old, dense_end].
+    /// The dense output is valid on [t_old, dense_end] (cut at a restart).
     t_old: f64,
-    h_old: f64,
     dense_end: f64,
-    y_old: Vec<f64>,
-    y_new: Vec<f64>,
-    cont: [Vec<f64>; 3],
-    /// Step-size control state.
     h_next: f64,
-    first: bool,
-    reject: bool,
-    faccon: f64,
-    theta: f64,
-    h_acc: f64,
-    err_acc: f64,
-    accepted_since_start: u64,
     stats: Radau5Stats,
 }
 
@@ -192,88 +153,26 @@ impl Radau5 {
                 got: y0.len(),
             });
         }
-        if let Some(component) = y0.iter().position(|v| !v.is_finite()) {
-            return Err(SolveError::NonFinite { t: t0, component });
-        }
-        let (rtol, atol) = if settings.hairer_tolerances {
-            let r = 0.1 * opts.rtol.powf(2.0 / 3.0);
-            (r, opts.atol * r / opts.rtol)
-        } else {
-            (opts.rtol, opts.atol)
-        };
-        let newton_tol = settings
-            .newton_tol
-            .unwrap_or_else(|| (10.0 * UROUND / rtol).max(0.03f64.min(rtol.sqrt())));
-        let controlled = settings.error_mask.clone().unwrap_or_else(|| vec![true; n]);
-        let n_controlled = controlled.iter().filter(|&&c| c).count();
-        let h0 = opts.fixed_step.or(opts.h0).unwrap_or(1e-6);
-        let vec3 = || [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
         let mut r = Radau5 {
-            n,
+            core: Radau5Core::new(n, opts.rtol, opts.atol, opts.h_max, settings),
             opts: opts.clone(),
-            settings: settings.clone(),
-            rtol,
-            atol,
-            newton_tol,
-            eig: Eigen::new(),
+            n,
             t_end,
             t: t0,
-            y: y0.to_vec(),
+            y: vec![0.0; n],
             f0: vec![0.0; n],
-            scal: vec![0.0; n],
-            controlled,
-            n_controlled,
-            jac: vec![0.0; n * n],
-            jac_current: false,
-            need_jac: true,
-            jac_work: vec![0.0; 2 * n],
-            e1: RealLu::new(n),
-            e2: ComplexLu::new(n),
-            lu_h: f64::NAN,
-            z: vec3(),
-            w: vec3(),
-            fs: vec3(),
-            y_stage: vec![0.0; n],
-            err_vec: vec![0.0; n],
-            err_rhs: vec![0.0; n],
             t_old: t0,
-            h_old: 0.0,
             dense_end: t0,
-            y_old: y0.to_vec(),
-            y_new: y0.to_vec(),
-            cont: vec3(),
-            h_next: h0,
-            first: true,
-            reject: false,
-            faccon: 1.0,
-            theta: settings.theta_jac.abs(),
-            h_acc: 0.0,
-            err_acc: 0.0,
-            accepted_since_start: 0,
+            h_next: opts.fixed_step.or(opts.h0).unwrap_or(1e-6),
             stats: Radau5Stats::default(),
         };
-        r.eval_f0(f)?;
-        r.update_scale();
+        r.restart(f, t0, y0)?;
         Ok(r)
     }
 
-    /// f(t, y) into `f0`, counted.
-    fn eval_f0<F: Formulation + ?Sized>(&mut self, f: &F) -> Result<(), SolveError> {
-        self.stats.rhs_evals += 1;
-        f.rhs(self.t, &self.y, &mut self.f0)
-            .map_err(|source| SolveError::Formulation { t: self.t, source })
-    }
-
-    /// Error scale atol' + rtol'·|y_i| at the current state.
-    fn update_scale(&mut self) {
-        for (s, &y) in self.scal.iter_mut().zip(&self.y) {
-            *s = self.atol + self.rtol * y.abs();
-        }
-    }
-
-    /// Restarts at (t, y) after an event changed the state or the equations: f(t, y) is
-    /// re-evaluated (one RHS call), the Jacobian is marked stale, the next Newton iteration
-    /// starts from zero, and the dense output is cut at t. The proposed step size is kept.
+    /// Restarts at (t, y) after a caller changed the state or the equations: f(t, y) is
+    /// evaluated (one RHS call), the Jacobian is marked stale, the Newton iteration starts from
+    /// zero, and the dense output is cut at t. The proposed step size is kept.
     pub fn restart<F: Formulation + ?Sized>(
         &mut self,
         f: &F,
@@ -292,14 +191,11 @@ impl Radau5 {
         }
         self.t = t;
         self.y.copy_from_slice(y);
-        self.eval_f0(f)?;
-        self.update_scale();
+        self.stats.rhs_evals += 1;
+        f.rhs(t, y, &mut self.f0)
+            .map_err(|source| SolveError::Formulation { t, source })?;
+        self.core.restart(&self.f0);
         self.dense_end = self.dense_end.min(t);
-        self.jac_current = false;
-        self.need_jac = true;
-        self.first = true;
-        self.reject = false;
-        self.accepted_since_start = 0;
         Ok(())
     }
 
@@ -307,6 +203,81 @@ impl Radau5 {
     pub fn run_to_end<F: Formulation + ?Sized>(&mut self, f: &F) -> Result<(), SolveError> {
         while self.step(f)? {}
         Ok(())
+    }
+
+    /// Takes one accepted step (retrying rejected attempts with smaller steps). Returns
+    /// `Ok(false)` without doing anything if t_end is already reached.
+    pub fn step<F: Formulation + ?Sized>(&mut self, f: &F) -> Result<bool, SolveError> {
+        let t = self.t;
+        if t >= self.t_end {
+            return Ok(false);
+        }
+        let floor = 16.0 * f64::EPSILON * t.abs().max(self.t_end.abs());
+        let remaining = self.t_end - t;
+        if remaining <= floor {
+            // A restart left t a few ulps short of t_end: the state there is the end state.
+            self.t = self.t_end;
+            return Ok(true);
+        }
+        let cap = {
+            let value = f.max_step(t, &self.y);
+            if value.is_nan() || value <= 0.0 {
+                return Err(SolveError::InvalidMaxStep { t, value });
+            }
+            value.min(self.opts.h_max)
+        };
+        let error_control = self.opts.fixed_step.is_none();
+        let mut recoverable: Option<SolveError> = None;
+        loop {
+            let attempts = self.stats.steps + self.stats.rejected;
+            if attempts >= self.opts.max_steps {
+                return Err(SolveError::TooManySteps { t, steps: attempts });
+            }
+            let mut h = self.h_next.min(cap);
+            let last = remaining <= 1.01 * h && remaining <= cap;
+            if last {
+                h = remaining;
+            }
+            if !(h >= floor && h > 0.0) {
+                return Err(recoverable.unwrap_or(SolveError::StepTooSmall { t, h }));
+            }
+            let t_new = if last { self.t_end } else { t + h };
+            let outcome =
+                self.core
+                    .attempt(f, (t, &self.y), (h, t_new), error_control, &mut self.stats);
+            match outcome {
+                Ok(Outcome::Accepted { h_next }) => {
+                    if let Some(component) =
+                        self.core.solution().iter().position(|v| !v.is_finite())
+                    {
+                        return Err(SolveError::NonFinite {
+                            t: t_new,
+                            component,
+                        });
+                    }
+                    self.y.copy_from_slice(self.core.solution());
+                    self.t_old = t;
+                    self.t = t_new;
+                    self.dense_end = t_new;
+                    self.stats.record_step(h);
+                    self.h_next = self.opts.fixed_step.unwrap_or(h_next);
+                    return Ok(true);
+                }
+                Ok(Outcome::Rejected { h_next, .. }) => {
+                    self.stats.rejected += 1;
+                    self.h_next = h_next;
+                }
+                Err(SolveError::Formulation { t: te, source })
+                    if source.is_recoverable() && error_control =>
+                {
+                    self.stats.rejected += 1;
+                    self.stats.recovered_rejections += 1;
+                    self.h_next = 0.25 * h;
+                    recoverable = Some(SolveError::Formulation { t: te, source });
+                }
+                Err(e) => return Err(e),
+            }
+        }
     }
 
     /// Writes the dense-output state at time t ∈ [`Radau5::dense_range`] (a few ulps of slack)
@@ -327,15 +298,11 @@ impl Radau5 {
                 t_end: self.dense_end,
             });
         }
-        if self.h_old == 0.0 {
-            out.copy_from_slice(&self.y_old);
+        if self.stats.steps == 0 {
+            out.copy_from_slice(&self.y);
             return Ok(());
         }
-        let s = (t - (self.t_old + self.h_old)) / self.h_old;
-        let [c1, c2, c3] = &self.cont;
-        for i in 0..self.n {
-            out[i] = self.y_new[i] + s * (c1[i] + (s - C2M1) * (c2[i] + (s - C1M1) * c3[i]));
-        }
+        self.core.interpolate(t, out);
         Ok(())
     }
 
@@ -355,12 +322,6 @@ impl Radau5 {
     #[must_use]
     pub fn y(&self) -> &[f64] {
         &self.y
-    }
-
-    /// f(t, y) at [`Radau5::t`].
-    #[must_use]
-    pub fn dy(&self) -> &[f64] {
-        &self.f0
     }
 
     /// End time of the run (s).
@@ -387,33 +348,4 @@ impl Radau5 {
     pub fn stats(&self) -> &Radau5Stats {
         &self.stats
     }
-
-    /// Root-mean-square of v_i / scal_i over the error-controlled components.
-    fn scaled_rms(&self, v: &[f64]) -> f64 {
-        rms(v, &self.scal, &self.controlled, self.n_controlled)
-    }
-}
-
-/// √(Σ_{i controlled} (v_i/scal_i)² / n_controlled); a zero scale counts a zero entry as 0 and
-/// any other as infinitely large.
-fn rms(v: &[f64], scal: &[f64], controlled: &[bool], n_controlled: usize) -> f64 {
-    let mut sum = 0.0;
-    for ((&x, &s), &c) in v.iter().zip(scal).zip(controlled) {
-        if c {
-            let q = if s > 0.0 {
-                x / s
-            } else if x == 0.0 {
-                0.0
-            } else {
-                f64::INFINITY
-            };
-            sum += q * q;
-        }
-    }
-    (sum / n_controlled.max(1) as f64).sqrt()
-}
-
-/// Whether `e` is a recoverable formulation failure (a smaller step may avoid it).
-fn is_recoverable(e: &SolveError) -> bool {
-    matches!(e, SolveError::Formulation { source, .. } if FormulationError::is_recoverable(source))
 }

@@ -159,7 +159,7 @@ impl Radau5Settings {
 ///
 /// Every step attempt is either accepted (`steps`) or rejected (`rejected`), and each
 /// rejection has one cause: `rejected = error_test_failures + newton_failures +
-/// recovered_rejections + singular_matrices` (checked in the unit tests).
+/// recovered_rejections` (checked in `tests/radau5_stiff_problems.rs`).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct Radau5Stats {
     /// Accepted steps.
@@ -177,15 +177,15 @@ pub struct Radau5Stats {
     pub lu_decompositions: u64,
     /// Simplified Newton iterations (each: 3 RHS calls, one real and one complex solve).
     pub newton_iterations: u64,
-    /// Step attempts rejected because Newton diverged, was predicted too slow, or used up
-    /// `max_newton_iter`.
+    /// Step attempts rejected because Newton diverged, was predicted too slow, used up
+    /// `max_newton_iter`, or an iteration matrix was singular.
     pub newton_failures: u64,
     /// Step attempts rejected by the error test.
     pub error_test_failures: u64,
     /// Step attempts rejected because the RHS failed recoverably (a trial stage overshooting
     /// into a contact, [`FormulationError::is_recoverable`](crate::formulation::FormulationError::is_recoverable)).
     pub recovered_rejections: u64,
-    /// Step attempts rejected because an iteration matrix was singular.
+    /// Of `newton_failures`, those where an iteration matrix was singular.
     pub singular_matrices: u64,
     /// Smallest accepted step size (s); 0 if no step.
     pub h_min_used: f64,
@@ -195,7 +195,7 @@ pub struct Radau5Stats {
 
 impl Radau5Stats {
     /// Records an accepted step of size h (s).
-    pub(super) fn record_step(&mut self, h: f64) {
+    pub(crate) fn record_step(&mut self, h: f64) {
         if self.steps == 0 {
             self.h_min_used = h;
             self.h_max_used = h;
