@@ -3,25 +3,34 @@
 //! Dynamics of planar linkages whose revolute joints may have clearance.
 //!
 //! One straight path through the crate: model file → [`model::Model`] ([`model::load`]) →
-//! formulation ([`formulation::Dae`] for any model, [`formulation::ReducedLagrangian`] for the
-//! reference four-bar with a clearance joint) → integrator ([`solve::integrate()`], DOPRI5 or
-//! DOP853 with event location) → sampled trajectory ([`solve::Recorder`]) → [`analysis`] and
-//! result files ([`output`]). Clearance-joint contact and friction laws are in [`contact`].
+//! [`simulation::Simulation`] (formulation, end time, sampling and solver settings, all checked
+//! before any work) → samples streamed to a [`simulation::SampleSink`] (a CSV file:
+//! [`output::CsvSink`]) or kept as a [`simulation::Trajectory`] → [`analysis`] and result files
+//! ([`output`]). Every run returns a [`simulation::RunSummary`]: provenance, solver statistics,
+//! constraint violation, per clearance joint the impacts and contact maxima, and with the
+//! energy bookkeeping the work–energy balance.
+//!
+//! Underneath: formulations ([`formulation::Dae`] for any model,
+//! [`formulation::ReducedLagrangian`] for the reference four-bar with a clearance joint), the
+//! integrator ([`solve::integrate()`], DOPRI5 or DOP853 with event location), contact and
+//! friction laws ([`contact`]).
 //!
 //! ```
-//! use linkdyn::formulation::{Dae, DaeOptions, Formulation};
-//! use linkdyn::solve::Recorder;
-//! use linkdyn::solve::{integrate, SolverOptions};
+//! use linkdyn::simulation::{Simulation, SimulationOptions};
 //!
-//! // Two crank turns (0.48 s at 250 rpm) of the reference four-bar with ideal joints.
+//! // Two crank turns (0.48 s at 250 rpm) of the reference four-bar with ideal joints,
+//! // sampled every millisecond.
 //! let model = linkdyn::model::load("models/fourbar_ideal.toml".as_ref(), &[])?;
-//! let mut dae = Dae::new(&model, &DaeOptions::default())?;
-//! let y0 = dae.initial_state();
-//! let mut samples = Recorder::new(&dae);
-//! let stats = integrate(&mut dae, 0.0, &y0, 0.48, 1e-3, &SolverOptions::default(), &mut samples)?;
-//! let torque = samples.column("motor.torque").unwrap_or_default();
+//! let sim = Simulation::new(&model, SimulationOptions::default().revs(2.0).dt(1e-3))?;
+//! let run = sim.run_to_memory()?;
+//! let torque = run.column("motor.torque").unwrap_or_default();
 //! assert_eq!(torque.len(), 481);
-//! println!("{} steps; crank torque at t = 0: {:.4} N·m", stats.steps, torque[0]);
+//! println!(
+//!     "{} steps; crank torque at t = 0: {:.4} N·m; max |Phi| = {:.1e}",
+//!     run.stats().steps,
+//!     torque[0],
+//!     run.summary.max_constraint_violation
+//! );
 //! # Ok::<(), linkdyn::Error>(())
 //! ```
 #![warn(missing_docs)]
@@ -29,13 +38,13 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod analysis;
-pub mod cli;
 pub mod contact;
 pub mod error;
 pub mod formulation;
 pub mod mechanics;
 pub mod model;
 pub mod output;
+pub mod simulation;
 pub mod solve;
 
 pub use error::{Error, Result};

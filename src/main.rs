@@ -1,7 +1,10 @@
-//! The `linkdyn` command: parses arguments, runs the subcommand, maps errors to exit codes.
+//! The `linkdyn` command: parses arguments, runs the subcommand through the library, prints,
+//! and maps errors to exit codes (see [`cli`]).
+
+mod cli;
 
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    linkdyn::cli::main()
+    cli::main()
 }

@@ -5,12 +5,36 @@ use std::process::Command;
 
 const CASES: &[(&str, &str)] = &[
     (
+        "axis_one_component",
+        "tests/bad_models/axis_one_component.toml:22:8: joints.pivot.axis: expected 2 components [x, y] for the axis, found 1 component",
+    ),
+    (
+        "body_name_comma",
+        "tests/bad_models/body_name_comma.toml:9:8: bodies[0].name: invalid body name \"link,1\": ',' (it splits a CSV field) is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
+    ),
+    (
+        "clearance_1e308",
+        "tests/bad_models/clearance_1e308.toml:22:13: joints.C.clearance: radial clearance c = 1e308 m is not smaller than the journal radius R_J = 1e-2 m; expected c < R_J (a bearing of more than twice the journal's radius is not a clearance joint)",
+    ),
+    (
+        "clearance_below_floor",
+        "tests/bad_models/clearance_below_floor.toml:22:13: joints.C.clearance: expected a radial clearance (m) of at least 1e-9 (the roughness of polished surfaces), found 1e-12",
+    ),
+    (
+        "clearance_equal_to_journal_radius",
+        "tests/bad_models/clearance_equal_to_journal_radius.toml:22:13: joints.C.clearance: radial clearance c = 1e-2 m is not smaller than the journal radius R_J = 1e-2 m; expected c < R_J (a bearing of more than twice the journal's radius is not a clearance joint)",
+    ),
+    (
         "clearance_field_on_revolute",
         "tests/bad_models/clearance_field_on_revolute.toml:37:13: joints.A.clearance: field `clearance` does not belong to a revolute joint; expected only body_a, point_a, body_b, point_b",
     ),
     (
         "clearance_too_large_eccentricity",
-        "tests/bad_models/clearance_too_large_eccentricity.toml:24:24: joints.C.initial_eccentricity: initial eccentricity |e| = 1.000000e-3 m exceeds the clearance 5.000000e-4 m; expected the journal inside the bearing",
+        "tests/bad_models/clearance_too_large_eccentricity.toml:24:24: joints.C.initial_eccentricity: initial eccentricity |e| = 1.000000e-3 m is not smaller than the clearance 5.000000e-4 m; expected the journal strictly inside the bearing, since a contact that is under way at t = 0 has no impact velocity to scale its damping",
+    ),
+    (
+        "driver_name_quote",
+        "tests/bad_models/driver_name_quote.toml:24:8: drivers[0].name: invalid driver name \"mo\\\"tor\": '\"' (it quotes a CSV field) is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
     ),
     (
         "driver_on_prismatic",
@@ -25,12 +49,76 @@ const CASES: &[(&str, &str)] = &[
         "tests/bad_models/driver_unknown_joint.toml:41:9: drivers.motor.joint: unknown joint \"O2\" in driver \"motor\": did you mean \"O\"?",
     ),
     (
+        "eccentricity_on_the_wall",
+        "tests/bad_models/eccentricity_on_the_wall.toml:24:24: joints.C.initial_eccentricity: initial eccentricity |e| = 5.000000e-4 m is not smaller than the clearance 5.000000e-4 m; expected the journal strictly inside the bearing, since a contact that is under way at t = 0 has no impact velocity to scale its damping",
+    ),
+    (
+        "eccentricity_one_component",
+        "tests/bad_models/eccentricity_one_component.toml:24:24: joints.C.initial_eccentricity: expected 2 components [x, y] for the initial eccentricity (m), found 1 component",
+    ),
+    (
+        "flores_restitution_below_floor",
+        "tests/bad_models/flores_restitution_below_floor.toml:27:15: joints.C.contact.restitution: expected a coefficient of restitution of at least 0.01 for the flores law, found 0.001: its damping factor 8(1 − c_r)/(5 c_r) grows as 1/c_r (c_r = 1e-4 costs 56× the work of 0.9, 1e-5 475×), and c_r < 0.01 is a plastic impact that no continuous contact law describes",
+    ),
+    (
+        "force_name_hash",
+        "tests/bad_models/force_name_hash.toml:30:8: forces[0].name: invalid force name \"#push\": '#' (it starts a comment line) is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
+    ),
+    (
+        "gravity_component_not_a_number",
+        "tests/bad_models/gravity_component_not_a_number.toml:6:15: settings.gravity[1]: expected a number for the y component of the gravity vector (m/s²), found a string \"down\"",
+    ),
+    (
+        "gravity_junk_component",
+        "tests/bad_models/gravity_junk_component.toml:6:11: settings.gravity: expected 2 components [x, y] for the gravity vector (m/s²), found 4 components",
+    ),
+    (
+        "gravity_not_finite",
+        "tests/bad_models/gravity_not_finite.toml:6:11: settings.gravity: expected a finite gravity vector (m/s²), found [NaN, -9.81]",
+    ),
+    (
+        "gravity_three_components",
+        "tests/bad_models/gravity_three_components.toml:6:11: settings.gravity: expected 2 components [x, y] for the gravity vector (m/s²), found 3 components",
+    ),
+    (
+        "hertz_with_restitution",
+        "tests/bad_models/hertz_with_restitution.toml:27:15: joints.C.contact.restitution: field `restitution` does not belong to the hertz law, which is purely elastic (c_r = 1), found c_r = 0.5; remove it, or choose lankarani-nikravesh, hunt-crossley or flores for a dissipative contact",
+    ),
+    (
+        "inertia_below_floor",
+        "tests/bad_models/inertia_below_floor.toml:11:11: bodies.link.inertia: expected a moment of inertia (kg·m²) of at least 1e-30 (a 1 µm steel cube), found 1e-300",
+    ),
+    (
+        "joint_name_newline",
+        "tests/bad_models/joint_name_newline.toml:16:8: joints[0].name: invalid joint name \"piv\\not\": a newline is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
+    ),
+    (
         "joint_to_itself",
         "tests/bad_models/joint_to_itself.toml:31:8: joints.A.name: joint \"A\" connects \"crank\" to itself; expected two different bodies",
     ),
     (
+        "journal_radius_1e6",
+        "tests/bad_models/journal_radius_1e6.toml:23:18: joints.C.journal_radius: expected a journal radius (m) in [1e-6, 1e1] (from micro-mechanism pins to ship shafts), found 1e6",
+    ),
+    (
+        "journal_radius_not_finite",
+        "tests/bad_models/journal_radius_not_finite.toml:23:18: joints.C.journal_radius: expected a finite journal radius (m), found inf",
+    ),
+    (
+        "mass_below_floor",
+        "tests/bad_models/mass_below_floor.toml:10:8: bodies.link.mass: expected a mass (kg) of at least 1e-15 (a 1 µm steel cube), found 1e-300",
+    ),
+    (
         "missing_model_name",
         "tests/bad_models/missing_model_name.toml:2:1: model: missing field `name`",
+    ),
+    (
+        "model_name_control_character",
+        "tests/bad_models/model_name_control_character.toml:3:8: model.name: invalid model name \"bad\\u{7}\": the control character U+0007 is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
+    ),
+    (
+        "model_name_empty",
+        "tests/bad_models/model_name_empty.toml:3:8: model.name: invalid model name \"\": it is empty; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
     ),
     (
         "negative_mass",
@@ -43,6 +131,22 @@ const CASES: &[(&str, &str)] = &[
     (
         "non_finite_mass",
         "tests/bad_models/non_finite_mass.toml:10:8: bodies.crank.mass: expected a finite mass (kg), found NaN",
+    ),
+    (
+        "point_name_space",
+        "tests/bad_models/point_name_space.toml:12:12: bodies.link.points.\"P 1\": invalid point name \"P 1\" on body \"link\": a space is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
+    ),
+    (
+        "point_three_components",
+        "tests/bad_models/point_three_components.toml:12:16: bodies.link.points.P: expected 2 components [x, y] for the point (m), found 3 components",
+    ),
+    (
+        "poisson_ratio_minus_one",
+        "tests/bad_models/poisson_ratio_minus_one.toml:24:17: joints.C.poisson_ratio: expected a Poisson ratio in (-1, 0.5), found -1",
+    ),
+    (
+        "stiffness_absurd",
+        "tests/bad_models/stiffness_absurd.toml:24:13: joints.C.stiffness: expected a contact stiffness K (N/m^n) in [1e2, 1e18] (the range the material and size bounds give), found 1e30",
     ),
     (
         "syntax_error",
@@ -71,6 +175,10 @@ const CASES: &[(&str, &str)] = &[
     (
         "wrong_type",
         "tests/bad_models/wrong_type.toml:10:8: bodies.crank.mass: invalid type: string \"heavy\", expected f64",
+    ),
+    (
+        "youngs_modulus_absurd",
+        "tests/bad_models/youngs_modulus_absurd.toml:24:18: joints.C.youngs_modulus: expected a Young's modulus (Pa) in [1e6, 1.2e12] (from soft rubber to diamond), found 1e20",
     ),
     (
         "zero_inertia",
@@ -248,8 +356,10 @@ fn a_solver_failure_says_when_and_exits_with_code_3_leaving_no_files() {
         &out.display().to_string(),
     ]);
     assert_eq!(code, 3, "{stderr}");
-    // The toggle is at θ2 = π, i.e. t = 0.12 s at 250 rpm.
-    assert!(stderr.starts_with("error: step size h = "), "{stderr}");
+    // The toggle is at θ2 = π, i.e. t = 0.12 s at 250 rpm; the step size collapses there and
+    // the no-progress rule stops the run within 1000 attempts.
+    assert!(stderr.starts_with("error: no progress at t = "), "{stderr}");
+    assert!(stderr.contains("toggle"), "{stderr}");
     assert!(stderr.contains("at t = 0.1199"), "{stderr}");
     assert!(
         !out.exists() && !dir.join("lock.json").exists(),
@@ -284,4 +394,99 @@ fn a_linkage_driven_through_its_clearance_joint_stops_with_the_reason() {
     );
     assert!(!out.exists(), "no partial result file");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The clearance joint "B" of the loaded model.
+fn clearance_spec(model: &linkdyn::model::Model) -> &linkdyn::model::ClearanceSpec {
+    model
+        .joints
+        .iter()
+        .find_map(|j| match &j.kind {
+            linkdyn::model::JointKind::Clearance(spec) if j.name == "B" => Some(spec),
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("no clearance joint B"))
+}
+
+fn load_with(sets: &[&str]) -> Result<linkdyn::model::Model, String> {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    linkdyn::model::load(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/models/farahan2016.toml"
+        )),
+        &sets,
+    )
+    .map_err(|e| e.to_string())
+}
+
+#[test]
+fn switching_the_friction_law_with_one_set_drops_the_old_fields_with_a_note() {
+    let model = load_with(&["joints.B.friction.law=none"]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        clearance_spec(&model).friction,
+        linkdyn::model::FrictionSpec::None
+    );
+    assert_eq!(
+        model.notes,
+        [
+            "--set joints.B.friction.law=none: dropped coefficient = 0.1, v0 = 0.0001, v1 = 0.001 from joints.B.friction, which friction law \"none\" does not take"
+        ]
+    );
+    // The CLI accepts it too (exit 0); printing the notes is the CLI's job.
+    let (code, _, stderr) = linkdyn(&[
+        "check",
+        "models/farahan2016.toml",
+        "--set",
+        "joints.B.friction.law=none",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    // A field of the old law set again afterwards is the user's explicit choice: an error, as in
+    // a file.
+    let err = load_with(&[
+        "joints.B.friction.law=none",
+        "joints.B.friction.coefficient=0.2",
+    ])
+    .err();
+    assert_eq!(
+        err.as_deref(),
+        Some(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/models/farahan2016.toml:77:15: joints.B.friction.coefficient: field `coefficient` does not belong to friction law \"none\" (value from --set joints.B.friction.coefficient=0.2)"
+        ))
+    );
+}
+
+#[test]
+fn switching_the_contact_law_with_one_set_drops_the_old_fields_with_a_note() {
+    use linkdyn::model::ContactLawKind;
+    // To the purely elastic Hertz law: the restitution of the old law goes, with a note.
+    let model = load_with(&["joints.B.contact.law=hertz"]).unwrap_or_else(|e| panic!("{e}"));
+    let spec = clearance_spec(&model);
+    assert_eq!(spec.law, ContactLawKind::Hertz);
+    assert_eq!(spec.restitution, 1.0, "Hertz records c_r = 1");
+    assert_eq!(
+        spec.exponent, 1.5,
+        "the exponent belongs to every law and stays"
+    );
+    assert_eq!(
+        model.notes,
+        [
+            "--set joints.B.contact.law=hertz: dropped restitution = 0.9 from joints.B.contact, which contact law \"hertz\" does not take"
+        ]
+    );
+    // To another dissipative law: everything applies, nothing is dropped, no note.
+    let model = load_with(&["joints.B.contact.law=flores"]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(clearance_spec(&model).law, ContactLawKind::Flores);
+    assert_eq!(clearance_spec(&model).restitution, 0.9);
+    assert!(model.notes.is_empty(), "{:?}", model.notes);
+    // An unknown law drops nothing and is named by validation.
+    let err = load_with(&["joints.B.contact.law=hertzian"]).err();
+    assert_eq!(
+        err.as_deref(),
+        Some(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/models/farahan2016.toml:71:7: joints.B.contact.law: unknown contact law \"hertzian\"; expected one of lankarani-nikravesh, hunt-crossley, flores, hertz (value from --set joints.B.contact.law=hertzian)"
+        ))
+    );
 }

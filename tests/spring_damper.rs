@@ -3,6 +3,8 @@
 //! force, follows x(t) in closed form; the energy bookkeeping closes the work–energy balance
 //! (external work = ΔT + ΔU_spring + damper dissipation).
 
+mod common;
+use common::col;
 use linkdyn::formulation::{Dae, DaeOptions, Formulation};
 use linkdyn::solve::{Method, Recorder, SolverOptions, integrate};
 
@@ -89,8 +91,11 @@ fn exact(t: f64, damping: f64, force: f64) -> f64 {
 fn damped_oscillator_matches_closed_form_and_balances_energy() {
     for (damping, force) in [(0.0, 0.0), (4.0, 10.0)] {
         let rec = run(damping, force);
-        let x = rec.column("mass.x").unwrap_or_default();
-        let y = rec.column("mass.y").unwrap_or_default();
+        // A missing column fails (`col` panics with its name) instead of reading as empty, which
+        // would make every loop below vacuous.
+        assert!(rec.len() > 100, "c = {damping}: only {} samples", rec.len());
+        let x = col(&rec, "mass.x");
+        let y = col(&rec, "mass.y");
         for (i, t) in rec.t.iter().enumerate() {
             let xe = exact(*t, damping, force);
             // 1e-9 m against a 0.2 m amplitude: rtol 1e-12 over ~5 periods.
@@ -101,15 +106,15 @@ fn damped_oscillator_matches_closed_form_and_balances_energy() {
             );
             assert!(y[i].abs() < 1e-12, "left the rail: y = {}", y[i]);
         }
-        let balance = rec.column("energy.balance").unwrap_or_default();
+        let balance = col(&rec, "energy.balance");
         let worst = balance.iter().fold(0.0_f64, |m, b| m.max(b.abs()));
         // Scale: the spring energy at t = 0, ½ k 0.2² = 4 J.
         assert!(
             worst < 1e-9 * 4.0,
             "c = {damping}: energy balance off by {worst:e} J"
         );
-        let dissipated = rec.column("energy.dissipated").unwrap_or_default();
-        let external = rec.column("energy.external_work").unwrap_or_default();
+        let dissipated = col(&rec, "energy.dissipated");
+        let external = col(&rec, "energy.external_work");
         if damping == 0.0 {
             assert!(
                 dissipated.iter().all(|d| d.abs() < 1e-12),

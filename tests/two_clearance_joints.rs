@@ -29,7 +29,7 @@ const C: f64 = 5e-4;
 const CRANK: f64 = 0.1;
 const ROD: f64 = 0.3;
 /// Generalised stiffness K (N/m^1.5) for steel, R_J = 10 mm, c = 0.5 mm: the reference check
-/// value of ../shared/reference/parameters.md.
+/// value of docs/reference_parameters.md.
 const K: f64 = 6.9494e10;
 /// Output interval (s): samples the impacts (contacts of ~1e-4 s) several times each.
 const DT: f64 = 1e-5;

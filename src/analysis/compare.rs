@@ -1,12 +1,17 @@
 //! Differences between two runs of the same model (e.g. two formulations) sampled on the same
 //! grid: largest difference per common column, and the pairing of their impacts.
+//! [`compare_formulations`] runs the DAE and the reduced formulation with the same settings
+//! and compares them.
 
+use crate::error::Result;
 use crate::formulation::Crossing;
-use crate::solve::Recorder;
+use crate::model::Model;
+use crate::simulation::{FormulationKind, RunSummary, Simulation, SimulationOptions, Trajectory};
+use crate::solve::{EventRecord, Recorder};
 use serde::Serialize;
 
 /// Largest difference of one column between two runs.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ColumnDifference {
     /// Column name.
     pub column: String,
@@ -19,7 +24,7 @@ pub struct ColumnDifference {
 }
 
 /// Everything [`compare`] finds.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Comparison {
     /// Number of common samples compared.
     pub samples: usize,
@@ -41,8 +46,58 @@ impl Comparison {
     }
 }
 
-fn impact_times(rec: &Recorder, index: usize) -> Vec<f64> {
-    rec.events
+/// A sampled run that [`compare`] can read: a [`Recorder`] or a [`Trajectory`].
+pub trait Sampled {
+    /// Column names.
+    fn names(&self) -> &[String];
+    /// Number of samples.
+    fn samples(&self) -> usize;
+    /// Time of sample i (s); i < `samples()`.
+    fn time(&self, i: usize) -> f64;
+    /// Value of column k at sample i; i < `samples()`, k < `names().len()`.
+    fn value(&self, i: usize, k: usize) -> f64;
+    /// Located events.
+    fn events(&self) -> &[EventRecord];
+}
+
+impl Sampled for Recorder {
+    fn names(&self) -> &[String] {
+        &self.names
+    }
+    fn samples(&self) -> usize {
+        self.len()
+    }
+    fn time(&self, i: usize) -> f64 {
+        self.t[i]
+    }
+    fn value(&self, i: usize, k: usize) -> f64 {
+        self.row(i)[k]
+    }
+    fn events(&self) -> &[EventRecord] {
+        &self.events
+    }
+}
+
+impl Sampled for Trajectory {
+    fn names(&self) -> &[String] {
+        &self.names
+    }
+    fn samples(&self) -> usize {
+        self.len()
+    }
+    fn time(&self, i: usize) -> f64 {
+        self.t[i]
+    }
+    fn value(&self, i: usize, k: usize) -> f64 {
+        self.columns[k][i]
+    }
+    fn events(&self) -> &[EventRecord] {
+        &self.events
+    }
+}
+
+fn impact_times(run: &impl Sampled, index: usize) -> Vec<f64> {
+    run.events()
         .iter()
         .filter(|e| e.index == index && e.crossing == Crossing::Rising)
         .map(|e| e.t)
@@ -51,11 +106,11 @@ fn impact_times(rec: &Recorder, index: usize) -> Vec<f64> {
 
 /// Compares runs `a` and `b` sample by sample (they must share the output grid: the first
 /// min(len) samples are compared) and their impacts for `n_events` event indices.
-pub fn compare(a: &Recorder, b: &Recorder, n_events: usize) -> Comparison {
-    let samples = a.len().min(b.len());
+pub fn compare(a: &impl Sampled, b: &impl Sampled, n_events: usize) -> Comparison {
+    let samples = a.samples().min(b.samples());
     let mut columns = Vec::new();
-    for (ka, name) in a.names.iter().enumerate() {
-        let Some(kb) = b.column_index(name) else {
+    for (ka, name) in a.names().iter().enumerate() {
+        let Some(kb) = b.names().iter().position(|n| n == name) else {
             continue;
         };
         let mut diff = ColumnDifference {
@@ -65,11 +120,11 @@ pub fn compare(a: &Recorder, b: &Recorder, n_events: usize) -> Comparison {
             max_abs_value: 0.0,
         };
         for i in 0..samples {
-            let (va, vb) = (a.row(i)[ka], b.row(i)[kb]);
+            let (va, vb) = (a.value(i, ka), b.value(i, kb));
             let d = (va - vb).abs();
             if d > diff.max_abs_difference || d.is_nan() {
                 diff.max_abs_difference = d;
-                diff.at_t = a.t[i];
+                diff.at_t = a.time(i);
             }
             diff.max_abs_value = diff.max_abs_value.max(va.abs());
         }
@@ -95,4 +150,35 @@ pub fn compare(a: &Recorder, b: &Recorder, n_events: usize) -> Comparison {
             })
             .collect(),
     }
+}
+
+/// The DAE and the reduced formulation of one model run with the same settings.
+#[derive(Debug, Clone, Serialize)]
+pub struct FormulationComparison {
+    /// Summary of the DAE run (its provenance is the comparison's).
+    pub dae: RunSummary,
+    /// Summary of the reduced run.
+    pub reduced: RunSummary,
+    /// Their differences (run a: DAE, run b: reduced; event k: clearance joint k).
+    pub comparison: Comparison,
+}
+
+/// Runs `model` with the DAE and with the reduced formulation, both with `options` (its
+/// `formulation` is ignored; the energy bookkeeping must be off, as the reduced formulation
+/// has none), and compares them. Both simulations are built — every setting checked — before
+/// either runs.
+pub fn compare_formulations(
+    model: &Model,
+    options: &SimulationOptions,
+) -> Result<FormulationComparison> {
+    let with = |kind| Simulation::new(model, options.clone().formulation(kind));
+    let dae = with(FormulationKind::Dae)?;
+    let reduced = with(FormulationKind::Reduced)?;
+    let (a, b) = (dae.run_to_memory()?, reduced.run_to_memory()?);
+    let comparison = compare(&a, &b, dae.clearance_joints().len());
+    Ok(FormulationComparison {
+        dae: a.summary,
+        reduced: b.summary,
+        comparison,
+    })
 }

@@ -1,5 +1,33 @@
-//! Analyses of finished runs; each returns plain data (no files, no printing).
+//! Analyses of finished runs and of formulations; each returns plain data (no files, no
+//! printing).
+//!
+//! | file | job |
+//! |---|---|
+//! | [`compare`](mod@compare) | differences between two runs of the same model |
+//! | [`spectrum`] | one-sided amplitude spectrum (FFT) and its dominant peaks |
+//! | [`poincare`] | stroboscopic Poincaré section of a driven formulation |
+//! | [`period`] | period-k verdict on a sequence of Poincaré points |
+//! | [`lyapunov`] | largest Lyapunov exponent (two trajectories, renormalisation) |
+//! | [`phase`] | phase-portrait data (value against rate) |
+//! | [`sweep`] | parameter-sweep bookkeeping: grid, shards, resume, merge, parallel map |
+//! | [`error`] | [`AnalysisError`] |
 
 pub mod compare;
+pub mod error;
+pub mod lyapunov;
+pub mod period;
+pub mod phase;
+pub mod poincare;
+pub mod spectrum;
+pub mod sweep;
 
-pub use compare::{ColumnDifference, Comparison, compare};
+pub use compare::{
+    ColumnDifference, Comparison, FormulationComparison, Sampled, compare, compare_formulations,
+};
+pub use error::AnalysisError;
+pub use lyapunov::{LyapunovEstimate, LyapunovOptions, largest_lyapunov};
+pub use period::{PeriodAnalysis, PeriodOptions, PeriodVerdict, period_verdict};
+pub use phase::{PhasePortrait, RateSource, phase_portrait};
+pub use poincare::{PoincareSection, SectionOptions, section_outputs, section_states};
+pub use spectrum::{Peak, Spectrum, SpectrumOptions, Window, amplitude_spectrum};
+pub use sweep::{ParameterGrid, Shard, SweepPoint, merge, remaining, run_points};

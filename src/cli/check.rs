@@ -1,9 +1,9 @@
 //! `linkdyn check MODEL`: validate and assemble; print the model's structure.
 
-use super::{Failure, fail, fail_model};
-use crate::formulation::{Dae, DaeOptions};
-use crate::model::{ForceElement, JointKind};
+use super::{Failure, in_model};
 use clap::Args;
+use linkdyn::formulation::{Dae, DaeOptions};
+use linkdyn::model::{ForceElement, JointKind};
 use std::path::PathBuf;
 
 /// Arguments of `check`.
@@ -18,8 +18,9 @@ pub struct CheckArgs {
 
 /// Runs `check`.
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
-    let model = crate::model::load(&args.model, &args.set).map_err(fail)?;
-    let dae = Dae::new(&model, &DaeOptions::default()).map_err(|e| fail_model(&args.model, e))?;
+    let model = super::load_model(&args.model, &args.set)?;
+    let dae =
+        Dae::new(&model, &DaeOptions::default()).map_err(|e| in_model(&args.model, e.into()))?;
     let a = dae.assembly();
     println!("model {} ({})", model.name, args.model.display());
     if !model.description.is_empty() {

@@ -1,11 +1,12 @@
 //! `linkdyn compare MODEL …`: run the DAE and the reduced formulation with the same settings
 //! and report their largest differences.
 
-use super::run::{FormulationKind, RunSettings, SolveArgs, clearance_joint_names, run_formulation};
-use super::{Failure, fail};
-use crate::analysis::{Comparison, compare};
-use crate::output::{self, Provenance};
+use super::args::SolveArgs;
+use super::{Failure, in_model};
 use clap::Args;
+use linkdyn::analysis::compare_formulations;
+use linkdyn::output::{self, Provenance};
+use linkdyn::simulation::{Simulation, clearance_joint_names};
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -28,27 +29,28 @@ struct CompareReport<'a> {
     wall_time_reduced_s: f64,
     rhs_evals_dae: u64,
     rhs_evals_reduced: u64,
-    comparison: &'a Comparison,
+    comparison: &'a linkdyn::analysis::Comparison,
 }
 
 /// Runs `compare`.
 pub fn run(args: &CompareArgs) -> Result<(), Failure> {
-    let model = crate::model::load(&args.model, &args.solve.set).map_err(fail)?;
-    let settings = RunSettings::resolve(&args.solve, &model)?;
-    let dae = run_formulation(&model, &args.model, FormulationKind::Dae, &settings, false)?;
-    let reduced = run_formulation(
-        &model,
-        &args.model,
-        FormulationKind::Reduced,
-        &settings,
-        false,
-    )?;
+    let model = super::load_model(&args.model, &args.solve.set)?;
+    let options = args.solve.options()?;
+    // Every setting is checked before either formulation runs (again inside
+    // `compare_formulations`, which costs an assembly).
+    let sim = Simulation::new(&model, options.clone()).map_err(|e| in_model(&args.model, e))?;
+    if let Some(path) = &args.out {
+        output::check_output_file(path, Some(&args.model))?;
+    }
+    let result = compare_formulations(&model, &options).map_err(|e| in_model(&args.model, e))?;
+    let comparison = &result.comparison;
     let joints = clearance_joint_names(&model);
-    let comparison = compare(&dae.recorder, &reduced.recorder, joints.len());
-
     println!(
         "{}: DAE vs reduced, {} samples to t = {} s, rtol {:e}",
-        model.name, comparison.samples, settings.t_end, settings.options.rtol
+        model.name,
+        comparison.samples,
+        sim.t_end(),
+        sim.solver_options().rtol
     );
     println!(
         "  {:<22} {:>14} {:>14} {:>12}",
@@ -75,33 +77,39 @@ pub fn run(args: &CompareArgs) -> Result<(), Failure> {
         }
     }
     for (k, joint) in joints.iter().enumerate() {
-        let dt = comparison.max_impact_time_difference[k]
+        let dt = comparison
+            .max_impact_time_difference
+            .get(k)
+            .copied()
+            .flatten()
             .map_or("n/a (different counts)".to_string(), |d| {
                 format!("{d:.3e} s")
             });
+        let count = |v: &[usize]| v.get(k).copied().unwrap_or(0);
         println!(
             "  joint {joint}: impacts DAE {}, reduced {}, max |impact time difference| {dt}",
-            comparison.impacts_a[k], comparison.impacts_b[k]
+            count(&comparison.impacts_a),
+            count(&comparison.impacts_b)
         );
     }
+    let (dae, reduced) = (&result.dae, &result.reduced);
     println!(
         "  wall time: DAE {:.3} s ({} RHS), reduced {:.3} s ({} RHS)",
-        dae.wall_time_s, dae.stats.rhs_evals, reduced.wall_time_s, reduced.stats.rhs_evals
+        dae.wall_time_s,
+        dae.solver_stats.rhs_evals,
+        reduced.wall_time_s,
+        reduced.solver_stats.rhs_evals
     );
     if let Some(path) = &args.out {
-        let provenance = settings.provenance(&model, FormulationKind::Dae);
         let report = CompareReport {
-            provenance: &provenance,
+            provenance: &dae.provenance,
             wall_time_dae_s: dae.wall_time_s,
             wall_time_reduced_s: reduced.wall_time_s,
-            rhs_evals_dae: dae.stats.rhs_evals,
-            rhs_evals_reduced: reduced.stats.rhs_evals,
-            comparison: &comparison,
+            rhs_evals_dae: dae.solver_stats.rhs_evals,
+            rhs_evals_reduced: reduced.solver_stats.rhs_evals,
+            comparison,
         };
-        output::write_json(path, &report)
-            .map_err(fail)?
-            .commit()
-            .map_err(fail)?;
+        output::write_json(path, &report)?.commit()?;
     }
     Ok(())
 }

@@ -1,14 +1,23 @@
-//! Command-line interface: one file per subcommand. Only calls the library.
+//! Command-line interface: one file per subcommand. Parses, calls the library, prints.
 //!
-//! Exit codes: 0 success; 2 bad input (model file, `--set`, options, a linkage that cannot be
-//! assembled or does not fit the formulation); 3 the solver failed (the message says when and
-//! why); 4 a result file could not be written.
+//! Exit codes: 0 success; 2 bad input (model file, `--set`, options, `--out`, a linkage that
+//! cannot be assembled or does not fit the formulation); 3 the solver failed (the message says
+//! when and why); 4 a result file could not be written; 130 interrupted (SIGINT, SIGTERM or
+//! SIGHUP during `run`: no result file is left behind).
 
+mod args;
 mod check;
 mod compare;
+mod interrupt;
+mod progress;
 mod run;
 
 use clap::{Parser, Subcommand};
+use linkdyn::Error;
+use linkdyn::analysis::AnalysisError;
+use linkdyn::output::OutputError;
+use linkdyn::solve::SolveError;
+use std::path::Path;
 use std::process::ExitCode;
 
 /// Dynamics of planar linkages with ideal and clearance revolute joints.
@@ -29,57 +38,123 @@ enum Command {
     Compare(compare::CompareArgs),
 }
 
+/// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
+/// by a law switch, for example) as `note: …` lines on stderr.
+pub fn load_model(
+    path: &Path,
+    set: &[String],
+) -> Result<linkdyn::model::Model, linkdyn::model::ModelError> {
+    let model = linkdyn::model::load(path, set)?;
+    for note in &model.notes {
+        eprintln!("note: {note}");
+    }
+    Ok(model)
+}
+
 /// Exit code for bad input.
 pub const EXIT_BAD_INPUT: u8 = 2;
 /// Exit code for a solver failure.
 pub const EXIT_SOLVER: u8 = 3;
 /// Exit code for a result file that could not be written.
 pub const EXIT_OUTPUT: u8 = 4;
+/// Exit code after SIGINT/SIGTERM (128 + SIGINT, the shell's convention).
+pub const EXIT_INTERRUPTED: u8 = 130;
 
-/// An error with the exit code it maps to.
+/// An error message with the exit code it maps to.
 #[derive(Debug)]
 pub struct Failure {
     code: u8,
-    error: anyhow::Error,
+    message: String,
 }
 
-impl From<crate::Error> for Failure {
-    fn from(e: crate::Error) -> Self {
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
         let code = match &e {
-            crate::Error::Model(_) | crate::Error::Formulation(_) => EXIT_BAD_INPUT,
-            crate::Error::Solve(_) => EXIT_SOLVER,
-            crate::Error::Output(_) => EXIT_OUTPUT,
+            Error::Model(_) | Error::Formulation(_) | Error::Settings { .. } => EXIT_BAD_INPUT,
+            Error::Solve(SolveError::Sink { .. }) => EXIT_OUTPUT,
+            Error::Solve(_) => EXIT_SOLVER,
+            Error::Output(o) if o.is_bad_input() => EXIT_BAD_INPUT,
+            Error::Output(_) => EXIT_OUTPUT,
+            Error::Analysis(AnalysisError::Solve { .. } | AnalysisError::Outputs { .. }) => {
+                EXIT_SOLVER
+            }
+            Error::Analysis(_) => EXIT_BAD_INPUT,
         };
         Failure {
             code,
-            error: e.into(),
+            message: message(&e),
         }
+    }
+}
+
+impl From<OutputError> for Failure {
+    fn from(e: OutputError) -> Self {
+        Failure::from(Error::from(e))
+    }
+}
+
+impl From<linkdyn::model::ModelError> for Failure {
+    fn from(e: linkdyn::model::ModelError) -> Self {
+        Failure::from(Error::from(e))
     }
 }
 
 impl Failure {
-    /// Bad input with a message.
-    pub fn bad_input(message: impl Into<String>) -> Self {
+    /// The run was interrupted by a signal.
+    fn interrupted() -> Self {
         Failure {
-            code: EXIT_BAD_INPUT,
-            error: anyhow::anyhow!(message.into()),
+            code: EXIT_INTERRUPTED,
+            message: "interrupted; no result files were written".into(),
         }
     }
 }
 
-/// A formulation error about the model in `path` (e.g. it cannot be assembled): the message
-/// names the file.
-pub fn fail_model<E: Into<crate::Error>>(path: &std::path::Path, e: E) -> Failure {
-    let mut f = fail(e);
-    if f.code == EXIT_BAD_INPUT {
-        f.error = f.error.context(path.display().to_string());
+/// A library error met while building a simulation of the model in `path`: a formulation
+/// error (e.g. the linkage cannot be assembled) is prefixed with the file's name.
+fn in_model(path: &Path, e: Error) -> Failure {
+    let prefix = matches!(e, Error::Formulation(_));
+    let mut f = Failure::from(e);
+    if prefix {
+        f.message = format!("{}: {}", path.display(), f.message);
     }
     f
 }
 
-/// Converts any layer's error into a [`Failure`] through [`crate::Error`].
-pub fn fail<E: Into<crate::Error>>(e: E) -> Failure {
-    Failure::from(e.into())
+/// The command-line spelling of a library option name: `t_end` → `--t-end`.
+fn flag(option: &str) -> String {
+    format!("--{}", option.replace('_', "-"))
+}
+
+/// The message of a library error for the command line: settings as flags, every cause once.
+fn message(e: &Error) -> String {
+    match e {
+        Error::Settings { option, reason } => {
+            // Other options are named in backticks by the library: spell them as flags.
+            let mut text = String::new();
+            for (k, part) in reason.split('`').enumerate() {
+                if k % 2 == 1 {
+                    text.push_str(&flag(part));
+                } else {
+                    text.push_str(part);
+                }
+            }
+            format!("{}: {text}", flag(option))
+        }
+        Error::Output(OutputError::Target { path, reason }) => format!("--out {path}: {reason}"),
+        _ => {
+            let mut message = e.to_string();
+            let mut cause = std::error::Error::source(e);
+            while let Some(c) = cause {
+                let text = c.to_string();
+                if !message.contains(&text) {
+                    message.push_str(": ");
+                    message.push_str(&text);
+                }
+                cause = c.source();
+            }
+            message
+        }
+    }
 }
 
 /// Entry point of the binary.
@@ -103,15 +178,7 @@ pub fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
-            let mut message = f.error.to_string();
-            for cause in f.error.chain().skip(1) {
-                let text = cause.to_string();
-                if !message.contains(&text) {
-                    message.push_str(": ");
-                    message.push_str(&text);
-                }
-            }
-            eprintln!("error: {message}");
+            eprintln!("error: {}", f.message);
             ExitCode::from(f.code)
         }
     }

@@ -1,7 +1,8 @@
 //! In-place Cholesky factorisation and solve of a small dense SPD matrix (row-major).
 //!
 //! For the m ≲ 30 constraint rows of a linkage, a plain loop beats library calls (no allocation,
-//! no dispatch); see `../shared/reference/ida_and_speed.md` for the measurements that chose it.
+//! no dispatch); see "Small dense linear algebra" in `docs/measurements.md` for the measurements
+//! that chose it.
 
 /// Factors the SPD matrix `a` (m × m, row-major; only the lower triangle is read) in place
 /// into L, lower triangle, with the *reciprocal* 1/L_jj stored on the diagonal so that

@@ -565,6 +565,16 @@ impl Formulation for Dae {
         Ok(())
     }
 
+    /// Only q and q̇ are error-controlled: the stored impact velocities (constant between
+    /// events) and the energy integrals (which feed back into nothing) are bookkeeping, so
+    /// `energy` on or off gives the same steps and the same trajectory.
+    fn error_controlled(&self, controlled: &mut [bool]) {
+        let bookkeeping = controlled.iter_mut().skip(2 * self.n_coordinates());
+        for c in bookkeeping {
+            *c = false;
+        }
+    }
+
     /// One event per clearance joint: its penetration δ.
     fn n_events(&self) -> usize {
         self.contacts.len()

@@ -96,6 +96,14 @@ pub trait Formulation {
         jacobian::finite_difference(self, t, y, f_y, out, work)
     }
 
+    /// Marks the states whose local error the integrators control. `controlled` (length
+    /// [`Formulation::n_states`]) arrives all `true`; a formulation sets `false` for its
+    /// bookkeeping states — discrete state kept in y (a stored impact velocity, constant between
+    /// events) and integrals that feed back into nothing (energy bookkeeping). Error norms and
+    /// the initial-step heuristic skip those components and divide by the number of controlled
+    /// ones, so bookkeeping never changes the steps taken. Default: every state is controlled.
+    fn error_controlled(&self, _controlled: &mut [bool]) {}
+
     /// Largest step the integrator may take from (t, y) (s). Formulations with events use it
     /// to make sure that no event can start and end inside one step. Default: unlimited.
     fn max_step(&self, _t: f64, _y: &[f64]) -> f64 {

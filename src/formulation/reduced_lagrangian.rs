@@ -988,6 +988,14 @@ impl Formulation for ReducedLagrangian {
         Ok(())
     }
 
+    /// θ3, θ4, θ̇3, θ̇4 are error-controlled; the stored impact velocity δ̇⁽⁻⁾ (constant
+    /// between events) is bookkeeping.
+    fn error_controlled(&self, controlled: &mut [bool]) {
+        if let Some(stored) = controlled.get_mut(4) {
+            *stored = false;
+        }
+    }
+
     /// One event function: the penetration δ (m) of the clearance joint.
     fn n_events(&self) -> usize {
         1

@@ -4,9 +4,12 @@
 //! (negative mass, zero inertia, a joint on a missing point) are refused here, before any
 //! numerics. Whether the linkage can be assembled is checked by the formulation.
 
+use super::bounds::*;
 use super::error::ModelError;
 use super::file::*;
+use super::laws;
 use super::locate::Locator;
+use super::names;
 use super::suggest::did_you_mean;
 use super::types::*;
 use std::collections::HashSet;
@@ -16,10 +19,7 @@ use toml::Spanned;
 /// Builds the model, refusing the first problem found.
 pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<Model, ModelError> {
     let b = Builder { loc };
-    let name = raw.model.name.get_ref().trim().to_string();
-    if name.is_empty() {
-        return Err(loc.error(raw.model.name.span(), "expected a non-empty model name"));
-    }
+    let name = b.name_on(&raw.model.name, "model", "")?;
     let settings = b.settings(&raw.settings)?;
     let ground_points = b.points(&raw.ground.points, "ground")?;
     let bodies = b.bodies(&raw.bodies)?;
@@ -43,6 +43,7 @@ pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<M
         drivers,
         forces,
         source,
+        notes: Vec::new(),
     })
 }
 
@@ -81,6 +82,24 @@ impl Builder<'_, '_> {
         }
     }
 
+    /// A finite value in `[min, max]`; `why` says where the bounds come from.
+    fn within(&self, v: &Num, what: &str, min: f64, max: f64, why: &str) -> Res<f64> {
+        let x = self.finite(v, what)?;
+        if (min..=max).contains(&x) {
+            Ok(x)
+        } else if max == f64::INFINITY {
+            Err(self.err(
+                v.span(),
+                format!("expected a {what} of at least {min:e} ({why}), found {x:e}"),
+            ))
+        } else {
+            Err(self.err(
+                v.span(),
+                format!("expected a {what} in [{min:e}, {max:e}] ({why}), found {x:e}"),
+            ))
+        }
+    }
+
     fn non_negative(&self, v: &Num, what: &str) -> Res<f64> {
         let x = self.finite(v, what)?;
         if x >= 0.0 {
@@ -94,7 +113,20 @@ impl Builder<'_, '_> {
     }
 
     fn vec2(&self, v: &Vec2, what: &str) -> Res<[f64; 2]> {
-        let [x, y] = *v.get_ref();
+        let items = v.get_ref();
+        let [x, y] = match items.as_slice() {
+            [x, y] => [self.component(x, "x", what)?, self.component(y, "y", what)?],
+            _ => {
+                return Err(self.err(
+                    v.span(),
+                    format!(
+                        "expected 2 components [x, y] for the {what}, found {} component{}",
+                        items.len(),
+                        if items.len() == 1 { "" } else { "s" }
+                    ),
+                ));
+            }
+        };
         if x.is_finite() && y.is_finite() {
             Ok([x, y])
         } else {
@@ -105,11 +137,40 @@ impl Builder<'_, '_> {
         }
     }
 
-    fn unique(&self, seen: &mut HashSet<String>, name: &Name, what: &str) -> Res<String> {
-        let n = name.get_ref().trim().to_string();
-        if n.is_empty() {
-            return Err(self.err(name.span(), format!("expected a non-empty {what} name")));
+    /// One component of a vector: a TOML integer or float.
+    fn component(&self, v: &Spanned<toml::Value>, axis: &str, what: &str) -> Res<f64> {
+        match v.get_ref() {
+            toml::Value::Float(x) => Ok(*x),
+            // An integer is read as the float nearest it, as serde does for f64 fields.
+            toml::Value::Integer(i) => Ok(*i as f64),
+            other => Err(self.err(
+                v.span(),
+                format!(
+                    "expected a number for the {axis} component of the {what}, found a {} {other}",
+                    other.type_str()
+                ),
+            )),
         }
+    }
+
+    /// A name that follows [`names::check`]: it heads CSV columns and provenance lines.
+    /// `owner` is empty or e.g. ` on body "crank"`.
+    fn name_on(&self, name: &Name, what: &str, owner: &str) -> Res<String> {
+        let n = name.get_ref();
+        names::check(n).map_err(|reason| {
+            self.err(
+                name.span(),
+                format!(
+                    "invalid {what} name {n:?}{owner}: {reason}; expected {}",
+                    names::RULE
+                ),
+            )
+        })?;
+        Ok(n.clone())
+    }
+
+    fn unique(&self, seen: &mut HashSet<String>, name: &Name, what: &str) -> Res<String> {
+        let n = self.name_on(name, what, "")?;
         if !seen.insert(n.clone()) {
             return Err(self.err(name.span(), format!("duplicate {what} name \"{n}\"")));
         }
@@ -168,13 +229,7 @@ impl Builder<'_, '_> {
     ) -> Res<Vec<(String, [f64; 2])>> {
         let mut out = Vec::with_capacity(points.len());
         for (name, p) in points {
-            let n = name.get_ref().trim().to_string();
-            if n.is_empty() {
-                return Err(self.err(
-                    name.span(),
-                    format!("expected a non-empty point name on {owner}"),
-                ));
-            }
+            let n = self.name_on(name, "point", &format!(" on {owner}"))?;
             out.push((n, self.vec2(p, "point (m)")?));
         }
         Ok(out)
@@ -191,8 +246,23 @@ impl Builder<'_, '_> {
                     "\"ground\" is reserved for the fixed frame; put its points in [ground]",
                 ));
             }
-            let mass = self.positive(&b.mass, "mass (kg)")?;
-            let inertia = self.positive(&b.inertia, "moment of inertia (kg·m²)")?;
+            // Positive first (the common slip), then the floor (see `bounds`).
+            self.positive(&b.mass, "mass (kg)")?;
+            let mass = self.within(
+                &b.mass,
+                "mass (kg)",
+                MIN_MASS,
+                f64::INFINITY,
+                "a 1 µm steel cube",
+            )?;
+            self.positive(&b.inertia, "moment of inertia (kg·m²)")?;
+            let inertia = self.within(
+                &b.inertia,
+                "moment of inertia (kg·m²)",
+                MIN_INERTIA,
+                f64::INFINITY,
+                "a 1 µm steel cube",
+            )?;
             let points = self.points(&b.points, &format!("body \"{name}\""))?;
             let i = b.initial.get_ref();
             let opt = |v: &Option<Num>, what| {
@@ -460,39 +530,71 @@ impl Builder<'_, '_> {
     fn material(&self, m: &Spanned<MaterialFile>) -> Res<Material> {
         let f = m.get_ref();
         Ok(Material {
-            youngs_modulus: self.positive(&f.youngs_modulus, "Young's modulus (Pa)")?,
+            youngs_modulus: self.youngs_modulus(&f.youngs_modulus)?,
             poisson_ratio: self.poisson(&f.poisson_ratio)?,
         })
     }
 
+    fn youngs_modulus(&self, v: &Num) -> Res<f64> {
+        self.within(
+            v,
+            "Young's modulus (Pa)",
+            MIN_YOUNGS_MODULUS,
+            MAX_YOUNGS_MODULUS,
+            "from soft rubber to diamond",
+        )
+    }
+
+    /// ν ∈ (−1, 0.5): the bounds of a stable isotropic solid, both open; at ν = −1 both
+    /// compliances σ = (1 − ν²)/E vanish and K = 4/(3(σ_J + σ_B)) divides by zero.
     fn poisson(&self, v: &Num) -> Res<f64> {
         let nu = self.finite(v, "Poisson ratio")?;
-        if (-1.0..0.5).contains(&nu) {
+        if nu > -1.0 && nu < 0.5 {
             Ok(nu)
         } else {
             Err(self.err(
                 v.span(),
-                format!("expected a Poisson ratio in [-1, 0.5), found {nu}"),
+                format!("expected a Poisson ratio in (-1, 0.5), found {nu}"),
             ))
         }
     }
 
     fn clearance(&self, j: &JointFile, what: &str, at: Range<usize>) -> Res<ClearanceSpec> {
-        let clearance = self.positive(
-            self.required(&j.clearance, "clearance", what, at.clone())?,
-            "radial clearance (m)",
-        )?;
-        let journal_radius = self.positive(
-            self.required(&j.journal_radius, "journal_radius", what, at.clone())?,
+        let c_field = self.required(&j.clearance, "clearance", what, at.clone())?;
+        self.positive(c_field, "radial clearance (m)")?;
+        let r_field = self.required(&j.journal_radius, "journal_radius", what, at.clone())?;
+        self.positive(r_field, "journal radius (m)")?;
+        let journal_radius = self.within(
+            r_field,
             "journal radius (m)",
+            MIN_JOURNAL_RADIUS,
+            MAX_JOURNAL_RADIUS,
+            "from micro-mechanism pins to ship shafts",
         )?;
+        let clearance = self.within(
+            c_field,
+            "radial clearance (m)",
+            MIN_CLEARANCE,
+            f64::INFINITY,
+            "the roughness of polished surfaces",
+        )?;
+        // c ≥ R_J makes the bearing at least twice the journal's size: no longer a joint with
+        // clearance, and the contact geometry (nearly conforming cylinders) no longer holds.
+        if clearance >= journal_radius {
+            return Err(self.err(
+                c_field.span(),
+                format!(
+                    "radial clearance c = {clearance:e} m is not smaller than the journal radius R_J = {journal_radius:e} m; expected c < R_J (a bearing of more than twice the journal's radius is not a clearance joint)"
+                ),
+            ));
+        }
         // Shared material first; a per-side table overrides it. Steel (207 GPa, 0.3) by default,
         // as in Flores et al. 2007 for this mechanism.
         let shared = Material {
             youngs_modulus: j
                 .youngs_modulus
                 .as_ref()
-                .map(|v| self.positive(v, "Young's modulus (Pa)"))
+                .map(|v| self.youngs_modulus(v))
                 .transpose()?
                 .unwrap_or(207e9),
             poisson_ratio: j
@@ -517,17 +619,28 @@ impl Builder<'_, '_> {
         let stiffness_override = j
             .stiffness
             .as_ref()
-            .map(|v| self.positive(v, "contact stiffness K (N/m^n)"))
+            .map(|v| {
+                self.within(
+                    v,
+                    "contact stiffness K (N/m^n)",
+                    MIN_STIFFNESS,
+                    MAX_STIFFNESS,
+                    "the range the material and size bounds give",
+                )
+            })
             .transpose()?;
         let initial_eccentricity = match &j.initial_eccentricity {
             None => [0.0, 0.0],
             Some(v) => {
                 let e = self.vec2(v, "initial eccentricity (m)")?;
-                if e[0].hypot(e[1]) > clearance {
+                // On the wall (|e| = c) the contact would begin without an impact event, so the
+                // impact velocity δ̇⁽⁻⁾ that scales the damping would be unknown; such a run
+                // made no impact and did not finish in 1e7 steps (models/farahan2016.toml).
+                if e[0].hypot(e[1]) >= clearance {
                     return Err(self.err(
                         v.span(),
                         format!(
-                            "initial eccentricity |e| = {:.6e} m exceeds the clearance {clearance:.6e} m; expected the journal inside the bearing",
+                            "initial eccentricity |e| = {:.6e} m is not smaller than the clearance {clearance:.6e} m; expected the journal strictly inside the bearing, since a contact that is under way at t = 0 has no impact velocity to scale its damping",
                             e[0].hypot(e[1])
                         ),
                     ));
@@ -564,13 +677,13 @@ impl Builder<'_, '_> {
                 "flores" => ContactLawKind::Flores,
                 "hertz" => ContactLawKind::Hertz,
                 other => {
-                    let laws = ["lankarani-nikravesh", "hunt-crossley", "flores", "hertz"];
+                    let laws = laws::names(laws::CONTACT);
                     return Err(self.err(
                         l.span(),
                         format!(
                             "unknown contact law \"{other}\"; expected one of {}{}",
                             laws.join(", "),
-                            did_you_mean(other, laws)
+                            did_you_mean(other, laws.iter().copied())
                         ),
                     ));
                 }
@@ -588,6 +701,35 @@ impl Builder<'_, '_> {
                 }
                 cr
             }
+        };
+        if let Some(v) = &f.restitution {
+            match law {
+                // c_r = 1 states what Hertz is (purely elastic), so it contradicts nothing; any
+                // other value would be silently ignored.
+                ContactLawKind::Hertz if restitution != 1.0 => {
+                    return Err(self.err(
+                        v.span(),
+                        format!(
+                            "field `restitution` does not belong to the hertz law, which is purely elastic (c_r = 1), found c_r = {restitution}; remove it, or choose lankarani-nikravesh, hunt-crossley or flores for a dissipative contact"
+                        ),
+                    ));
+                }
+                ContactLawKind::Flores if restitution < MIN_FLORES_RESTITUTION => {
+                    return Err(self.err(
+                        v.span(),
+                        format!(
+                            "expected a coefficient of restitution of at least {MIN_FLORES_RESTITUTION} for the flores law, found {restitution}: its damping factor 8(1 − c_r)/(5 c_r) grows as 1/c_r (c_r = 1e-4 costs 56× the work of 0.9, 1e-5 475×), and c_r < 0.01 is a plastic impact that no continuous contact law describes"
+                        ),
+                    ));
+                }
+                _ => {}
+            }
+        }
+        // Hertz has no damping: record c_r = 1, which is what it simulates.
+        let restitution = if law == ContactLawKind::Hertz {
+            1.0
+        } else {
+            restitution
         };
         let exponent = match &f.exponent {
             None => 1.5,

@@ -14,8 +14,10 @@ use toml::Spanned;
 pub type Name = Spanned<String>;
 /// A spanned number.
 pub type Num = Spanned<f64>;
-/// A spanned planar vector `[x, y]`.
-pub type Vec2 = Spanned<[f64; 2]>;
+/// A spanned planar vector `[x, y]`, read as a list of any length and any element type so that
+/// validation can refuse a wrong number of components (a fixed `[f64; 2]` would silently drop a
+/// third one) and name the element that is not a number.
+pub type Vec2 = Spanned<Vec<Spanned<toml::Value>>>;
 
 /// The whole file.
 #[derive(Debug, Deserialize)]

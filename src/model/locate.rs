@@ -90,9 +90,16 @@ struct Entry {
     path: String,
 }
 
+/// `prefix.key`; a key that is not a valid name (see `names`) is quoted as TOML quotes it, so
+/// that a hostile key (a newline, a comma) cannot break the one-line error message.
 fn join(prefix: &str, key: &str) -> String {
-    if prefix.is_empty() {
+    let key = if super::names::is_valid(key) {
         key.to_string()
+    } else {
+        format!("{key:?}")
+    };
+    if prefix.is_empty() {
+        key
     } else {
         format!("{prefix}.{key}")
     }
@@ -119,8 +126,12 @@ fn walk_value(value: &DeValue<'_>, span: Range<usize>, path: &str, out: &mut Vec
         DeValue::Array(items) => {
             for (i, item) in items.iter().enumerate() {
                 let element = match item.get_ref() {
+                    // An entry whose name is not valid is named by its index: the name could
+                    // hold a newline, or a '.' that would read as another level of the path.
                     DeValue::Table(t) => match t.get("name").map(|n| n.get_ref()) {
-                        Some(DeValue::String(name)) => join(path, name),
+                        Some(DeValue::String(name)) if super::names::is_valid(name) => {
+                            join(path, name)
+                        }
                         _ => format!("{path}[{i}]"),
                     },
                     _ => format!("{path}[{i}]"),

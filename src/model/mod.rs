@@ -3,10 +3,13 @@
 //!
 //! The raw file structs never leave this module; everything downstream sees [`Model`], in SI units.
 
+mod bounds;
 mod build;
 mod error;
 mod file;
+mod laws;
 mod locate;
+mod names;
 mod overrides;
 mod suggest;
 mod types;
@@ -31,13 +34,14 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<Model, ModelError> {
 /// As [`load`], from text already in memory; `file` is the name used in error messages.
 pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Model, ModelError> {
     let raw = file::parse(text, file)?;
-    let (raw, effective_text) = if overrides.is_empty() {
-        (raw, None)
+    let (raw, effective_text, notes) = if overrides.is_empty() {
+        (raw, None, Vec::new())
     } else {
-        let patched = overrides::apply(text, file, overrides)?;
+        let (patched, notes) = overrides::apply(text, file, overrides)?;
         (
             file::parse(&patched, file).map_err(|e| e.after_overrides(text, overrides))?,
             Some(patched),
+            notes,
         )
     };
     let source = ModelSource {
@@ -46,13 +50,15 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Model, M
         overrides: overrides.to_vec(),
     };
     let located = locate::Locator::new(effective_text.as_deref().unwrap_or(text), file);
-    build::build(raw, source, &located).map_err(|e| {
+    let mut model = build::build(raw, source, &located).map_err(|e| {
         if effective_text.is_some() {
             e.after_overrides(text, overrides)
         } else {
             e
         }
-    })
+    })?;
+    model.notes = notes;
+    Ok(model)
 }
 
 fn hex_sha256(bytes: &[u8]) -> String {

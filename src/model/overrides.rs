@@ -3,13 +3,25 @@
 //!
 //! Applied to the TOML document before it is deserialised, so every check that applies to the
 //! file applies to an overridden value too.
+//!
+//! Switching a contact or friction law (`joints.B.friction.law=none`,
+//! `joints.B.contact.law=hertz`) also drops the fields of that table the new law does not take
+//! (the `coefficient` left behind by Ambrósio's law would otherwise be refused), and each drop
+//! is reported as a note. A field set again by a later `--set` is then an error as in a file.
 
 use super::error::ModelError;
+use super::laws;
 use super::suggest::did_you_mean;
 use toml::{Table, Value};
 
-/// Returns the model text with every override applied, in order.
-pub fn apply(text: &str, file: &str, overrides: &[String]) -> Result<String, ModelError> {
+/// Returns the model text with every override applied, in order, and the notes about fields
+/// dropped by a switch of law.
+pub fn apply(
+    text: &str,
+    file: &str,
+    overrides: &[String],
+) -> Result<(String, Vec<String>), ModelError> {
+    let mut notes = Vec::new();
     let mut doc: Table = text
         .parse()
         .map_err(|e: toml::de::Error| ModelError::WholeFile {
@@ -29,11 +41,75 @@ pub fn apply(text: &str, file: &str, overrides: &[String]) -> Result<String, Mod
             return Err(fail(format!("empty key in path \"{}\"", path.trim())));
         }
         set(&mut doc, &keys, parse_value(raw_value.trim())).map_err(fail)?;
+        if let Some(note) = drop_fields_of_old_law(&mut doc, &keys) {
+            notes.push(format!("--set {}: {note}", assignment.trim()));
+        }
     }
-    toml::to_string(&doc).map_err(|e| ModelError::WholeFile {
+    let text = toml::to_string(&doc).map_err(|e| ModelError::WholeFile {
         file: file.to_string(),
         message: format!("cannot re-serialise the model after --set: {e}"),
-    })
+    })?;
+    Ok((text, notes))
+}
+
+/// After `keys` = `….contact.law` or `….friction.law` was set: removes the fields of that table
+/// the new law does not take and says which. `None` if nothing was dropped, or if the law is
+/// unknown (validation names it then).
+fn drop_fields_of_old_law(doc: &mut Table, keys: &[&str]) -> Option<String> {
+    let (table_keys, kind) = match keys {
+        [.., kind, "law"] if *kind == "contact" || *kind == "friction" => {
+            (keys.get(..keys.len() - 1)?, *kind)
+        }
+        _ => return None,
+    };
+    let table = table_at(doc, table_keys)?;
+    let law = table.get("law")?.as_str()?.to_string();
+    let taken = laws::fields_of(
+        if kind == "contact" {
+            laws::CONTACT
+        } else {
+            laws::FRICTION
+        },
+        &law,
+    )?;
+    let dropped: Vec<String> = table
+        .keys()
+        .filter(|k| !taken.contains(&k.as_str()))
+        .cloned()
+        .collect();
+    if dropped.is_empty() {
+        return None;
+    }
+    let listed: Vec<String> = dropped
+        .iter()
+        .filter_map(|k| table.remove(k).map(|v| format!("{k} = {v}")))
+        .collect();
+    Some(format!(
+        "dropped {} from {}, which {kind} law \"{law}\" does not take",
+        listed.join(", "),
+        table_keys.join(".")
+    ))
+}
+
+/// The table at the dotted `keys` (array entries by name), if there is one.
+fn table_at<'t>(table: &'t mut Table, keys: &[&str]) -> Option<&'t mut Table> {
+    let Some((first, rest)) = keys.split_first() else {
+        return Some(table);
+    };
+    match table.get_mut(*first)? {
+        Value::Table(inner) => table_at(inner, rest),
+        Value::Array(items) => {
+            let (name, rest) = rest.split_first()?;
+            let item = items
+                .iter_mut()
+                .find(|i| i.get("name").and_then(Value::as_str) == Some(name))?;
+            match item {
+                Value::Table(inner) => table_at(inner, rest),
+                _ => None,
+            }
+        }
+        _ => None,
+    }
 }
 
 /// A TOML value if the text is one (number, boolean, array, quoted string), otherwise the bare
@@ -99,7 +175,8 @@ mod tests {
                 "settings.baumgarte.alpha=5".into(),
             ],
         );
-        let out = out.unwrap_or_default();
+        let (out, notes) = out.unwrap_or_default();
+        assert!(notes.is_empty(), "{notes:?}");
         assert!(out.contains("speed_rpm = 3500"), "{out}");
         assert!(out.contains("alpha = 5"), "{out}");
     }

@@ -281,6 +281,9 @@ pub struct Model {
     pub forces: Vec<ForceElement>,
     /// Provenance.
     pub source: ModelSource,
+    /// Things the user should know that are not errors, one sentence each, e.g. the fields a
+    /// `--set` that switched a contact or friction law dropped. The CLI prints them.
+    pub notes: Vec<String>,
 }
 
 impl Model {

@@ -1,7 +1,8 @@
 //! Files that appear whole or not at all: content goes to a temporary file in the same
-//! directory, which is renamed over the target only once everything is written and flushed.
+//! directory (`F.<pid>.tmp`), which is renamed over the target only once everything is written
+//! and flushed to disk. Dropping an uncommitted file removes its temporary file.
 
-use super::OutputError;
+use super::{OutputError, io_error};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -11,14 +12,8 @@ use std::path::{Path, PathBuf};
 pub struct AtomicFile {
     target: PathBuf,
     temp: PathBuf,
-    writer: Option<BufWriter<File>>,
-}
-
-fn io_error(path: &Path, e: std::io::Error) -> OutputError {
-    OutputError::Io {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    }
+    writer: BufWriter<File>,
+    committed: bool,
 }
 
 impl AtomicFile {
@@ -31,54 +26,64 @@ impl AtomicFile {
         Ok(AtomicFile {
             target: target.to_path_buf(),
             temp,
-            writer: Some(BufWriter::new(file)),
+            writer: BufWriter::with_capacity(1 << 16, file),
+            committed: false,
         })
     }
 
-    /// The writer for the content.
-    pub fn writer(&mut self) -> Result<&mut BufWriter<File>, OutputError> {
-        let target = self.target.clone();
-        self.writer
-            .as_mut()
-            .ok_or_else(|| io_error(&target, std::io::Error::other("file already committed")))
+    /// The target path.
+    pub fn target(&self) -> &Path {
+        &self.target
     }
 
-    /// Flushes the content to disk and renames the temporary file over the target.
-    pub fn commit(mut self) -> Result<(), OutputError> {
-        if let Some(w) = self.writer.take() {
-            let file = w
-                .into_inner()
-                .map_err(|e| io_error(&self.target, e.into_error()))?;
-            file.sync_all().map_err(|e| io_error(&self.target, e))?;
-        }
-        std::fs::rename(&self.temp, &self.target).map_err(|e| io_error(&self.target, e))
+    /// The temporary file's path.
+    pub fn temp_path(&self) -> &Path {
+        &self.temp
+    }
+
+    /// The writer for the content.
+    pub fn writer(&mut self) -> &mut BufWriter<File> {
+        &mut self.writer
     }
 
     /// Writes a whole string.
     pub fn write_str(&mut self, s: &str) -> Result<(), OutputError> {
-        let target = self.target.clone();
-        self.writer()?
+        self.writer
             .write_all(s.as_bytes())
-            .map_err(|e| io_error(&target, e))
+            .map_err(|e| io_error(&self.target, e))
+    }
+
+    /// Flushes the content to disk (the temporary file stays where it is).
+    pub fn sync(&mut self) -> Result<(), OutputError> {
+        self.writer.flush().map_err(|e| io_error(&self.target, e))?;
+        self.writer
+            .get_ref()
+            .sync_all()
+            .map_err(|e| io_error(&self.target, e))
+    }
+
+    /// Renames the temporary file over the target (call [`AtomicFile::sync`] first). On
+    /// failure the temporary file is removed.
+    pub(crate) fn rename_into_place(mut self) -> Result<(), OutputError> {
+        std::fs::rename(&self.temp, &self.target).map_err(|e| io_error(&self.target, e))?;
+        self.committed = true;
+        Ok(())
+    }
+
+    /// Flushes the content to disk and renames the temporary file over the target.
+    pub fn commit(mut self) -> Result<(), OutputError> {
+        self.sync()?;
+        self.rename_into_place()
     }
 }
 
 impl Drop for AtomicFile {
     fn drop(&mut self) {
-        if self.writer.is_some() {
+        if !self.committed {
             // Never committed: leave no partial file behind.
             let _ = std::fs::remove_file(&self.temp);
         }
     }
-}
-
-/// Commits several files only after all of them have been written; if one commit fails the
-/// others already renamed stay (each is whole).
-pub fn commit_all(files: Vec<AtomicFile>) -> Result<(), OutputError> {
-    for f in files {
-        f.commit()?;
-    }
-    Ok(())
 }
 
 #[cfg(test)]
@@ -88,9 +93,9 @@ mod tests {
     #[test]
     fn uncommitted_file_leaves_nothing_and_committed_file_appears_whole() {
         let dir = std::env::temp_dir().join(format!("linkdyn-atomic-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
         let _ = std::fs::create_dir_all(&dir);
         let target = dir.join("a.csv");
-        let _ = std::fs::remove_file(&target);
         {
             let mut f = AtomicFile::create(&target).map_err(|e| e.to_string());
             if let Ok(f) = f.as_mut() {

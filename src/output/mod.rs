@@ -1,13 +1,29 @@
 //! Result files: a CSV of sampled outputs and a JSON summary, both with provenance (model,
-//! settings, version), both written whole or not at all (temporary file + rename).
+//! settings, version), written whole or not at all.
+//!
+//! * [`CsvSink`] streams the rows of a run into the CSV as the samples arrive (O(1) memory in
+//!   the run length);
+//! * [`ResultPair`] makes the CSV and its JSON summary appear together or not at all: each is
+//!   written to its own temporary file beside its target, both are flushed to disk, then both
+//!   are renamed over their targets (the earlier CSV is restored if the second rename fails);
+//!   a lock file held from the first write to the commit keeps two runs on the same target
+//!   from mixing their files; [`check_target`] refuses targets that are not regular files;
+//! * [`AtomicFile`] is one such file on its own (temporary file + rename).
 
 mod atomic;
 mod csv;
+mod lock;
+mod pair;
 mod summary;
+mod target;
 
-pub use atomic::{AtomicFile, commit_all};
-pub use csv::write_csv;
-pub use summary::{ClearanceSummary, Provenance, write_json};
+pub use crate::simulation::{Provenance, format_number};
+pub use atomic::AtomicFile;
+pub use csv::{CsvSink, csv_header};
+pub use lock::OutputLock;
+pub use pair::{ResultPair, summary_path};
+pub use summary::write_json;
+pub use target::{check_output_file, check_target};
 
 use thiserror::Error;
 
@@ -22,15 +38,39 @@ pub enum OutputError {
         /// OS error text.
         reason: String,
     },
+    /// The requested target cannot be a result file (a directory, a device, the model file…);
+    /// refused before any work.
+    #[error("{path}: {reason}")]
+    Target {
+        /// The target as given.
+        path: String,
+        /// Why it is refused.
+        reason: String,
+    },
+    /// Another process is writing the same result files.
+    #[error(
+        "{path} is being written by another run (lock {lock} is held); wait for it or choose another output name"
+    )]
+    Busy {
+        /// The target.
+        path: String,
+        /// The lock file.
+        lock: String,
+    },
 }
 
-/// Formats a number exactly (shortest round-trip digits) and readably: plain notation for
-/// magnitudes in [1e-4, 1e15), scientific otherwise.
-pub fn format_number(x: f64) -> String {
-    let a = x.abs();
-    if x == 0.0 || (1e-4..1e15).contains(&a) || !x.is_finite() {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
+impl OutputError {
+    /// True for errors in the request itself (a target that can never be written), as
+    /// opposed to failures of the file system.
+    pub fn is_bad_input(&self) -> bool {
+        matches!(self, OutputError::Target { .. })
+    }
+}
+
+/// An I/O error on `path`.
+pub(crate) fn io_error(path: &std::path::Path, e: std::io::Error) -> OutputError {
+    OutputError::Io {
+        path: path.display().to_string(),
+        reason: e.to_string(),
     }
 }

@@ -29,14 +29,27 @@
 //!    1996, Sec. IV.2 (PI control, after Gustafsson).
 
 use super::error::SolveError;
-use super::options::Method;
-use super::rk::{eval_rhs, scaled};
+use super::integrator::ErrorWeights;
+use super::rk::eval_rhs;
 use crate::formulation::Formulation;
 
 /// Safety factor applied to the asymptotically optimal step.
 const SAFETY: f64 = 0.9;
 /// Smallest error norm remembered for the PI term (Hairer's `facold` floor).
 const ERR_OLD_MIN: f64 = 1e-4;
+
+/// Hairer's constants of one method (see the table in the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ControlParams {
+    /// Exponent q: the error behaves like h^q (5 for DOPRI5, 8 for DOP853).
+    pub q: f64,
+    /// κ of the PI exponent α = 1/q − κβ.
+    pub kappa: f64,
+    /// Smallest factor h_new/h.
+    pub fac_min: f64,
+    /// Largest factor h_new/h.
+    pub fac_max: f64,
+}
 
 /// Outcome of the error test.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,12 +79,14 @@ pub(crate) struct Controller {
 }
 
 impl Controller {
-    /// Controller for `method` with PI exponent `beta`.
-    pub(crate) fn new(method: Method, beta: f64) -> Self {
-        let (q, kappa, fac_min, fac_max) = match method {
-            Method::Dopri5 => (5.0, 0.75, 0.2, 10.0),
-            Method::Dop853 => (8.0, 0.2, 0.333, 6.0),
-        };
+    /// Controller with constants `params` and PI exponent `beta`.
+    pub(crate) fn new(params: ControlParams, beta: f64) -> Self {
+        let ControlParams {
+            q,
+            kappa,
+            fac_min,
+            fac_max,
+        } = params;
         Self {
             expo1: 1.0 / q - kappa * beta,
             beta,
@@ -126,8 +141,8 @@ pub(crate) struct InitialStep<'a> {
     pub f0: &'a [f64],
     /// Largest step allowed (s): min(h_max, max_step, t_end − t0).
     pub h_cap: f64,
-    /// (rtol, atol).
-    pub tol: (f64, f64),
+    /// Tolerances and the error-controlled components (the norms below run over those only).
+    pub weights: &'a ErrorWeights,
     /// Exponent q (5 for DOPRI5, 8 for DOP853).
     pub q: f64,
 }
@@ -141,19 +156,14 @@ pub(crate) fn initial_step<F: Formulation + ?Sized>(
     f1: &mut [f64],
     evals: &mut u64,
 ) -> Result<f64, SolveError> {
-    let n = p.y0.len();
-    let (rtol, atol) = p.tol;
+    let w = p.weights;
     let fallback = 1e-6_f64.min(p.h_cap);
-    if n == 0 {
+    if w.is_empty() {
         return Ok(p.h_cap.min(1.0));
     }
-    let rms = |v: &mut dyn Iterator<Item = f64>| (v.map(|x| x * x).sum::<f64>() / n as f64).sqrt();
-    let d0 = rms(&mut p.y0.iter().map(|&y| scaled(y, y, y, rtol, atol)));
-    let d1 = rms(&mut p
-        .y0
-        .iter()
-        .zip(p.f0)
-        .map(|(&y, &fy)| scaled(fy, y, y, rtol, atol)));
+    let at = |v: &[f64], i: usize| v.get(i).copied().unwrap_or(0.0);
+    let d0 = w.rms(p.y0, p.y0, |i| at(p.y0, i));
+    let d1 = w.rms(p.y0, p.y0, |i| at(p.f0, i));
     let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
         1e-6
     } else {
@@ -167,12 +177,7 @@ pub(crate) fn initial_step<F: Formulation + ?Sized>(
         *y1i = y + h0 * fy;
     }
     eval_rhs(f, p.t0 + h0, y1, f1, evals)?;
-    let d2 = rms(&mut p
-        .y0
-        .iter()
-        .zip(p.f0.iter().zip(f1.iter()))
-        .map(|(&y, (&fa, &fb))| scaled(fb - fa, y, y, rtol, atol)))
-        / h0;
+    let d2 = w.rms(p.y0, p.y0, |i| at(f1, i) - at(p.f0, i)) / h0;
     let h1 = if d1 <= 1e-15 && d2 <= 1e-15 {
         (h0 * 1e-3).max(1e-6)
     } else {
@@ -191,9 +196,22 @@ mod tests {
     use super::*;
     use crate::formulation::FormulationError;
 
+    const DOPRI5: ControlParams = ControlParams {
+        q: 5.0,
+        kappa: 0.75,
+        fac_min: 0.2,
+        fac_max: 10.0,
+    };
+    const DOP853: ControlParams = ControlParams {
+        q: 8.0,
+        kappa: 0.2,
+        fac_min: 0.333,
+        fac_max: 6.0,
+    };
+
     #[test]
     fn accepts_and_grows_on_small_error() {
-        let mut c = Controller::new(Method::Dopri5, 0.0);
+        let mut c = Controller::new(DOPRI5, 0.0);
         match c.decide(0.0, 0.1) {
             Decision::Accept { h_next } => assert!((h_next - 1.0).abs() < 1e-12, "{h_next}"),
             d => panic!("expected acceptance, got {d:?}"),
@@ -207,7 +225,7 @@ mod tests {
 
     #[test]
     fn rejects_and_shrinks_then_does_not_grow() {
-        let mut c = Controller::new(Method::Dop853, 0.0);
+        let mut c = Controller::new(DOP853, 0.0);
         match c.decide(1e12, 1.0) {
             Decision::Reject { h_next } => assert!((h_next - 0.333).abs() < 1e-12, "{h_next}"),
             d => panic!("expected rejection, got {d:?}"),
@@ -225,7 +243,7 @@ mod tests {
     #[test]
     fn error_halving_lengthens_the_step_as_err_to_the_minus_one_fifth() {
         // Asymptotic law: h_new/h = 0.9·err^(-1/5) for DOPRI5 with β = 0.
-        let mut c = Controller::new(Method::Dopri5, 0.0);
+        let mut c = Controller::new(DOPRI5, 0.0);
         match c.decide(0.5, 1.0) {
             Decision::Accept { h_next } => {
                 let expected = 0.5f64.powf(-0.2) * 0.9;
@@ -256,12 +274,13 @@ mod tests {
         let mut y1 = [0.0];
         let mut f1 = [0.0];
         let mut evals = 0;
+        let weights = ErrorWeights::new(&Decay, 1e-6, 0.0);
         let p = InitialStep {
             t0: 0.0,
             y0: &[1.0],
             f0: &[-1.0],
             h_cap: f64::INFINITY,
-            tol: (1e-6, 0.0),
+            weights: &weights,
             q: 5.0,
         };
         let h = initial_step(&Decay, &p, &mut y1, &mut f1, &mut evals).unwrap_or(0.0);

@@ -33,9 +33,89 @@
 // 17 significant digits would only add a chance of transcription errors.
 #![allow(clippy::excessive_precision)]
 
+use super::control::ControlParams;
 use super::error::SolveError;
+use super::explicit::{DenseInput, Pair};
+use super::integrator::{ErrorWeights, Trial};
+use super::options::Method;
 use super::rk::{StepBuffers, combine, eval_rhs, scaled, weighted_sum};
+use super::stats::SolverStats;
 use crate::formulation::Formulation;
+
+/// The DOP853 pair (a marker for [`ExplicitRk`](super::explicit::ExplicitRk)).
+pub(crate) struct Dop853;
+
+impl Pair for Dop853 {
+    const METHOD: Method = Method::Dop853;
+    const STAGES: usize = STAGES;
+    const FSAL: usize = FSAL;
+    const LAST_STAGE: usize = N_STAGES - 1;
+    const DENSE_VECTORS: usize = DENSE_VECTORS;
+    const CONTROL: ControlParams = ControlParams {
+        q: 8.0,
+        kappa: 0.2,
+        fac_min: 0.333,
+        fac_max: 6.0,
+    };
+    /// Hairer's `dop853.f` (hλ > 6.1).
+    const STABILITY_BOUNDARY: f64 = 6.1;
+
+    fn stages<F: Formulation + ?Sized>(
+        f: &F,
+        trial: &Trial<'_>,
+        buf: StepBuffers<'_>,
+        evals: &mut u64,
+    ) -> Result<(), SolveError> {
+        step(f, trial.t, trial.h, trial.y, buf, evals)
+    }
+
+    fn error_norm(
+        h: f64,
+        y: &[f64],
+        y_new: &[f64],
+        k: &[Vec<f64>],
+        weights: &ErrorWeights,
+        scratch: (&mut [f64], &mut [f64]),
+    ) -> f64 {
+        error_norm(h, y, y_new, k, weights, scratch)
+    }
+
+    fn after_accept<F: Formulation + ?Sized>(
+        f: &F,
+        t_new: f64,
+        y_new: &[f64],
+        k: &mut [Vec<f64>],
+        evals: &mut u64,
+    ) -> Result<(), SolveError> {
+        fsal(f, t_new, y_new, k, evals)
+    }
+
+    fn prepare_dense<F: Formulation + ?Sized>(
+        f: &F,
+        step: &DenseInput<'_>,
+        k: &mut [Vec<f64>],
+        dense: &mut [Vec<f64>],
+        y_stage: &mut [f64],
+        stats: &mut SolverStats,
+    ) -> Result<(), SolveError> {
+        extra_stages(
+            f,
+            step.t_old,
+            step.h,
+            step.y_old,
+            k,
+            y_stage,
+            &mut stats.rhs_evals,
+        )?;
+        stats.dense_evals += DENSE_EXTRA_EVALS;
+        dense_vectors(step.h, step.y_old, step.y_new, k, dense);
+        Ok(())
+    }
+
+    fn eval_dense(theta: f64, y_old: &[f64], dense: &[Vec<f64>], out: &mut [f64]) {
+        eval_dense(theta, y_old, dense, out);
+    }
+}
 
 /// Stages of one step proper (k_0..k_11).
 pub(crate) const N_STAGES: usize = 12;
@@ -399,36 +479,45 @@ pub(crate) fn fsal<F: Formulation + ?Sized>(
     }
 }
 
-/// The combined error norm (see the module documentation). `scratch` holds two vectors of
+/// The combined error norm (see the module documentation), with n the number m of
+/// error-controlled components and the sums over those only. `scratch` holds two vectors of
 /// length n.
 pub(crate) fn error_norm(
     h: f64,
     y: &[f64],
     y_new: &[f64],
     k: &[Vec<f64>],
-    tol: (f64, f64),
+    weights: &ErrorWeights,
     scratch: (&mut [f64], &mut [f64]),
 ) -> f64 {
-    let (rtol, atol) = tol;
+    let (rtol, atol) = (weights.rtol, weights.atol);
     let (err5, err3) = scratch;
-    let n = y.len();
-    if n == 0 {
+    let m = weights.len();
+    if m == 0 {
         return 0.0;
     }
     weighted_sum(&E5, k, err5);
     weighted_sum(&E3, k, err3);
     let mut s5 = 0.0;
     let mut s3 = 0.0;
-    for i in 0..n {
-        let e5 = scaled(err5[i], y[i], y_new[i], rtol, atol);
-        let e3 = scaled(err3[i], y[i], y_new[i], rtol, atol);
-        s5 += e5 * e5;
-        s3 += e3 * e3;
+    // Bookkeeping components have weight 0 and add exactly +0 (see `ErrorWeights`).
+    for ((((&w, &a), &b), &r5), &r3) in weights
+        .mask
+        .iter()
+        .zip(y)
+        .zip(y_new)
+        .zip(&*err5)
+        .zip(&*err3)
+    {
+        let e5 = scaled(r5, a, b, rtol, atol);
+        let e3 = scaled(r3, a, b, rtol, atol);
+        s5 += w * (e5 * e5);
+        s3 += w * (e3 * e3);
     }
     if s5 == 0.0 && s3 == 0.0 {
         return 0.0;
     }
-    h.abs() * s5 / ((s5 + 0.01 * s3) * n as f64).sqrt()
+    h.abs() * s5 / ((s5 + 0.01 * s3) * m as f64).sqrt()
 }
 
 /// Evaluates the three dense-output stages k_13..k_15 of a step of size h from

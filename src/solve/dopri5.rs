@@ -21,9 +21,69 @@
 //! 3. L. F. Shampine, "Some practical Runge–Kutta formulas", *Math. Comp.* 46(173), 135–150,
 //!    1986 (the same continuous extension; SciPy's `RK45.P` is its power form).
 
+use super::control::ControlParams;
 use super::error::SolveError;
-use super::rk::{StepBuffers, combine, eval_rhs, scaled, weighted_sum};
+use super::explicit::{DenseInput, Pair};
+use super::integrator::{ErrorWeights, Trial};
+use super::options::Method;
+use super::rk::{StepBuffers, combine, eval_rhs, weighted_sum};
+use super::stats::SolverStats;
 use crate::formulation::Formulation;
+
+/// The DOPRI5 pair (a marker for [`ExplicitRk`](super::explicit::ExplicitRk)).
+pub(crate) struct Dopri5;
+
+impl Pair for Dopri5 {
+    const METHOD: Method = Method::Dopri5;
+    const STAGES: usize = STAGES;
+    const FSAL: usize = FSAL;
+    const LAST_STAGE: usize = FSAL - 1;
+    const DENSE_VECTORS: usize = DENSE_VECTORS;
+    const CONTROL: ControlParams = ControlParams {
+        q: 5.0,
+        kappa: 0.75,
+        fac_min: 0.2,
+        fac_max: 10.0,
+    };
+    /// Hairer's `dopri5.f` (hλ > 3.25).
+    const STABILITY_BOUNDARY: f64 = 3.25;
+
+    fn stages<F: Formulation + ?Sized>(
+        f: &F,
+        trial: &Trial<'_>,
+        buf: StepBuffers<'_>,
+        evals: &mut u64,
+    ) -> Result<(), SolveError> {
+        step(f, trial.t, trial.h, trial.t_new, trial.y, buf, evals)
+    }
+
+    fn error_norm(
+        h: f64,
+        y: &[f64],
+        y_new: &[f64],
+        k: &[Vec<f64>],
+        weights: &ErrorWeights,
+        scratch: (&mut [f64], &mut [f64]),
+    ) -> f64 {
+        error_norm(h, y, y_new, k, weights, scratch.0)
+    }
+
+    fn prepare_dense<F: Formulation + ?Sized>(
+        _f: &F,
+        step: &DenseInput<'_>,
+        k: &mut [Vec<f64>],
+        dense: &mut [Vec<f64>],
+        _y_stage: &mut [f64],
+        _stats: &mut SolverStats,
+    ) -> Result<(), SolveError> {
+        prepare_dense(step.h, step.y_old, step.y_new, k, dense);
+        Ok(())
+    }
+
+    fn eval_dense(theta: f64, y_old: &[f64], dense: &[Vec<f64>], out: &mut [f64]) {
+        eval_dense(theta, y_old, dense, out);
+    }
+}
 
 /// Stage vectors kept per step: 7 (k_7 is the FSAL stage).
 pub(crate) const STAGES: usize = 7;
@@ -117,31 +177,21 @@ pub(crate) fn step<F: Formulation + ?Sized>(
     Ok(())
 }
 
-/// Hairer's error norm: sqrt(1/n Σ_i (err_i / sk_i)²) with err = h Σ e_j k_j and
-/// sk_i = atol + rtol·max(|y_i|, |y_new_i|). `scratch` has length n.
+/// Hairer's error norm: sqrt(1/m Σ_i (err_i / sk_i)²) over the m error-controlled components,
+/// with err = h Σ e_j k_j and sk_i = atol + rtol·max(|y_i|, |y_new_i|). `scratch` has length n.
 pub(crate) fn error_norm(
     h: f64,
     y: &[f64],
     y_new: &[f64],
     k: &[Vec<f64>],
-    tol: (f64, f64),
+    weights: &ErrorWeights,
     scratch: &mut [f64],
 ) -> f64 {
-    let (rtol, atol) = tol;
-    let n = y.len();
-    if n == 0 {
+    if weights.is_empty() {
         return 0.0;
     }
     weighted_sum(&E, k, scratch);
-    let sum: f64 = scratch
-        .iter()
-        .zip(y.iter().zip(y_new))
-        .map(|(&e, (&a, &b))| {
-            let r = scaled(h * e, a, b, rtol, atol);
-            r * r
-        })
-        .sum();
-    (sum / n as f64).sqrt()
+    (weights.sum_of_squares_of(h, scratch, y, y_new) / weights.len() as f64).sqrt()
 }
 
 /// Fills the dense-output vectors r₁..r₄ of a step of size h from y_old to y_new.

@@ -29,6 +29,43 @@ pub enum SolveError {
         got: usize,
     },
 
+    /// The run took longer than [`SolverOptions::max_wall`](crate::solve::SolverOptions::max_wall).
+    #[error(
+        "stopped after {wall_s:.3} s of wall-clock time (limit max_wall = {limit_s} s) at t = {t:.9} s of t_end = {t_end} s, simulating {rate:.3e} s per wall-clock second"
+    )]
+    WallTimeExceeded {
+        /// Time reached (s).
+        t: f64,
+        /// End time of the run (s).
+        t_end: f64,
+        /// Wall-clock time spent (s).
+        wall_s: f64,
+        /// The limit (s).
+        limit_s: f64,
+        /// Simulated time per wall-clock second so far.
+        rate: f64,
+    },
+
+    /// The run stopped making progress: over the last attempts the step size collapsed so far
+    /// that t_end could not be reached within `max_steps` (see `solve::progress`).
+    #[error("{}", no_progress_message(*t, *h, *advance, *attempts, *projected, *stiff, implicit))]
+    NoProgress {
+        /// Time reached (s).
+        t: f64,
+        /// Mean step size over the window (s).
+        h: f64,
+        /// How far t advanced over the window (s).
+        advance: f64,
+        /// Attempts in the window.
+        attempts: u64,
+        /// Attempts still needed at this pace.
+        projected: f64,
+        /// The method's stiffness test fired: the step is limited by stability.
+        stiff: bool,
+        /// Implicit methods available to suggest (`"a" or "b"`; empty if none).
+        implicit: String,
+    },
+
     /// The step size fell below the resolution of t (16 machine epsilons of max(|t|, |t_end|)):
     /// the solution is (nearly) discontinuous there or the problem is too stiff for an explicit
     /// method.
@@ -120,6 +157,35 @@ pub enum SolveError {
         /// End of the interpolable part of the last step (s).
         t_end: f64,
     },
+}
+
+/// The message of [`SolveError::NoProgress`].
+fn no_progress_message(
+    t: f64,
+    h: f64,
+    advance: f64,
+    attempts: u64,
+    projected: f64,
+    stiff: bool,
+    implicit: &str,
+) -> String {
+    let head = format!(
+        "no progress at t = {t:.9} s: the last {attempts} step attempts advanced t by {advance:.3e} s (mean step {h:.3e} s); reaching t_end at this pace needs about {projected:.1e} more attempts"
+    );
+    if stiff {
+        let advice = if implicit.is_empty() {
+            "an implicit method (none is built into this version)".to_string()
+        } else {
+            format!("an implicit method (--method {implicit})")
+        };
+        format!(
+            "{head}. The step size is limited by stability, not accuracy: the problem is stiff here (e.g. a long contact phase). Use {advice}; loosening rtol/atol will not help"
+        )
+    } else {
+        format!(
+            "{head}. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model"
+        )
+    }
 }
 
 impl SolveError {

@@ -41,7 +41,7 @@ use serde::Serialize;
 
 use super::error::SolveError;
 use super::rk::{eval_rhs, first_non_finite};
-use super::stepper::{Stepper, Stop, eval_dense};
+use super::stepper::{Stepper, Stop};
 use crate::formulation::{Crossing, EventResponse, Formulation};
 
 /// A located event.
@@ -112,6 +112,15 @@ impl EventState {
     }
 }
 
+/// Which event buffer receives a dense-output state.
+#[derive(Debug, Clone, Copy)]
+enum DenseBuffer {
+    /// `y_tmp`, for event-function values.
+    Scratch,
+    /// `y_before`, the state at the event.
+    BeforeEvent,
+}
+
 /// Sign of x as −1, 0 or +1 (NaN counts as 0: the component is inactive).
 fn sign(x: f64) -> i8 {
     if x > 0.0 {
@@ -142,7 +151,7 @@ pub(crate) fn illinois(
     bracket: Bracket,
     tol: f64,
     index: usize,
-    mut phi: impl FnMut(f64) -> f64,
+    mut phi: impl FnMut(f64) -> Result<f64, SolveError>,
 ) -> Result<f64, SolveError> {
     let Bracket {
         mut a,
@@ -181,7 +190,7 @@ pub(crate) fn illinois(
         if c <= a || c >= b {
             break; // no representable point left inside
         }
-        let phi_c = phi(c);
+        let phi_c = phi(c)?;
         if phi_c > 0.0 {
             a = c;
             phi_a = phi_c;
@@ -217,30 +226,33 @@ impl<F: Formulation> Stepper<'_, F> {
     }
 
     /// g_i on the dense output at time t (the whole vector lands in `g_tmp`).
-    fn event_value(&mut self, t: f64, i: usize) -> f64 {
-        self.event_vector(t);
-        self.ev.g_tmp.get(i).copied().unwrap_or(0.0)
+    fn event_value(&mut self, t: f64, i: usize) -> Result<f64, SolveError> {
+        self.event_vector(t)?;
+        Ok(self.ev.g_tmp.get(i).copied().unwrap_or(0.0))
     }
 
-    /// Position θ = (t − t_old)/h of `t` inside the last step (0 for an empty step).
-    pub(super) fn theta_of(&self, t: f64) -> f64 {
-        if self.h_step > 0.0 {
-            (t - self.t_old) / self.h_step
-        } else {
-            0.0
+    /// The method's dense output at t into `buffer` (`y_tmp` or `y_before`), through the
+    /// [`Integrator`](super::integrator::Integrator) trait only.
+    fn dense_into(&mut self, t: f64, buffer: DenseBuffer) -> Result<(), SolveError> {
+        let slot = match buffer {
+            DenseBuffer::Scratch => &mut self.ev.y_tmp,
+            DenseBuffer::BeforeEvent => &mut self.ev.y_before,
+        };
+        // Taking the vector out (no allocation) lets the driver borrow itself mutably.
+        let mut out = std::mem::take(slot);
+        let result = self.dense_raw(t, &mut out);
+        match buffer {
+            DenseBuffer::Scratch => self.ev.y_tmp = out,
+            DenseBuffer::BeforeEvent => self.ev.y_before = out,
         }
+        result
     }
 
-    /// g on the dense output at time t into `g_tmp` (dense output must be ready).
-    fn event_vector(&mut self, t: f64) {
-        eval_dense(
-            self.opts.method,
-            self.theta_of(t),
-            &self.y_old,
-            &self.dense,
-            &mut self.ev.y_tmp,
-        );
+    /// g on the dense output at time t into `g_tmp`.
+    fn event_vector(&mut self, t: f64) -> Result<(), SolveError> {
+        self.dense_into(t, DenseBuffer::Scratch)?;
         self.f.events(t, &self.ev.y_tmp, &mut self.ev.g_tmp);
+        Ok(())
     }
 
     /// Evaluates g at the initial point and sets the reference signs.
@@ -330,7 +342,6 @@ impl<F: Formulation> Stepper<'_, F> {
                 if r == 0.0 || r * self.ev.g_b[i] > 0.0 {
                     continue;
                 }
-                self.ensure_dense()?;
                 let phi_lo = r * self.ev.g_lo[i];
                 let (a, phi_a) = if phi_lo > 0.0 {
                     (t_lo, phi_lo)
@@ -340,7 +351,7 @@ impl<F: Formulation> Stepper<'_, F> {
                     if ta >= hi {
                         continue;
                     }
-                    let pa = r * self.event_value(ta, i);
+                    let pa = r * self.event_value(ta, i)?;
                     if pa <= 0.0 {
                         continue;
                     }
@@ -353,10 +364,10 @@ impl<F: Formulation> Stepper<'_, F> {
                     b: hi,
                     phi_b: r * self.ev.g_b[i],
                 };
-                let b = illinois(bracket, tol, i, |t| r * self.event_value(t, i))?;
+                let b = illinois(bracket, tol, i, |t| Ok(r * self.event_value(t, i)?))?;
                 if b < hi {
                     hi = b;
-                    self.event_vector(b);
+                    self.event_vector(b)?;
                     self.ev.g_b.copy_from_slice(&self.ev.g_tmp);
                 }
                 found = Some(i);
@@ -375,14 +386,7 @@ impl<F: Formulation> Stepper<'_, F> {
         if self.ev.lo_is_event && t_ev == t_lo {
             self.ev.y_before.copy_from_slice(&self.ev.y_after);
         } else {
-            self.ensure_dense()?;
-            eval_dense(
-                self.opts.method,
-                self.theta_of(t_ev),
-                &self.y_old,
-                &self.dense,
-                &mut self.ev.y_before,
-            );
+            self.dense_into(t_ev, DenseBuffer::BeforeEvent)?;
             if t_ev != t_lo {
                 // g at t_ev (pre-event) becomes the start of the rest of the scan.
                 self.ev.g_lo.copy_from_slice(&self.ev.g_b);
@@ -424,6 +428,7 @@ impl<F: Formulation> Stepper<'_, F> {
             // The rest of the step is void: cut it at the event and move to the new state.
             self.ev.pending_restart = true;
             self.dense_end = t_ev;
+            self.step_final = true;
             self.t = t_ev;
             self.y.copy_from_slice(&self.ev.y_after);
             self.y_is_step_end = false;
@@ -432,9 +437,10 @@ impl<F: Formulation> Stepper<'_, F> {
         Ok(Some(Stop::Event { t: t_ev, index }))
     }
 
-    /// Restarts the method at the event time from the state after the event(s): new FSAL stage
-    /// f(t, y), new reference signs, controller history cleared; the next step size is the
-    /// controller's last proposal, bounded by `h_max` (and, at the step, by `max_step`).
+    /// Restarts the method at the event time from the state after the event(s): f(t, y) handed
+    /// to [`Integrator::restart`](super::integrator::Integrator::restart) (which clears the
+    /// method's history), new reference signs; the next step size is the method's last
+    /// proposal, bounded by `h_max` (and, at the step, by `max_step`).
     pub(super) fn restart(&mut self) -> Result<(), SolveError> {
         let t = self.t;
         if let Some(component) = first_non_finite(&self.y) {
@@ -450,9 +456,9 @@ impl<F: Formulation> Stepper<'_, F> {
         self.f.events(t, &self.y, &mut self.ev.g_lo);
         self.set_reference_signs();
         self.ev.pending_restart = false;
+        self.integrator.restart(t, &self.y, &self.dy);
         self.stats.restarts += 1;
         self.h_next = self.h_next.min(self.opts.h_max);
-        self.controller.reset();
         Ok(())
     }
 }
@@ -471,7 +477,7 @@ mod tests {
         };
         let r = illinois(bracket, tol, 0, |t| {
             calls += 1;
-            phi(t)
+            Ok(phi(t))
         });
         (r.unwrap_or(f64::NAN), calls)
     }

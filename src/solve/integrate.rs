@@ -4,13 +4,19 @@
 //! **Output grid.** Samples are taken at t_k = t0 + k·dt_out, k = 0, 1, …, while
 //! t_k ≤ t_end + 1e-9·dt_out, from the dense output — never at solver steps, so their spacing
 //! is exact (what spectra and Poincaré maps need) and independent of the tolerances. A grid
-//! point within 1e-9·dt_out of t_end is sampled at exactly t_end. If t_end is not on the grid,
-//! the last sample is the last grid point before it: t_end itself is then not sampled (pick
-//! t_end as a multiple of dt_out to get it).
+//! point within 1e-9·dt_out of t_end is sampled at exactly t_end. The end time is always
+//! sampled: if t_end is not on the grid, one more sample at exactly t_end follows the last grid
+//! point (dt_out = 0.3 s on a 0.48 s run gives 0, 0.3 and 0.48 s), so only the last interval
+//! may be shorter than dt_out.
 //!
 //! **Order at events.** All samples at or before an event time are sent before the event; a
 //! sample exactly at the event time therefore shows the state before the event's change.
+//!
+//! **Step hook.** Once an accepted step is final (no event can cut it any more: at its end, or
+//! at an event that restarted the integrator inside it), [`Sink::on_step`] receives its dense
+//! output, after the samples and events inside it.
 
+use super::dense::DenseStep;
 use super::error::SolveError;
 use super::events::EventRecord;
 use super::options::SolverOptions;
@@ -37,6 +43,17 @@ pub trait Sink<F: ?Sized> {
         _y_before: &[f64],
         _y_after: &[f64],
     ) -> Result<(), SolveError> {
+        Ok(())
+    }
+
+    /// An accepted step is final: `step` gives its time range and its dense output, to look
+    /// between the samples (e.g. for the true extremum of a contact force). Called once per
+    /// accepted step, including steps cut short at an event that restarted the integrator,
+    /// after the samples and events inside the step. Default: ignored.
+    fn on_step(&mut self, _step: &mut DenseStep<'_, F>) -> Result<(), SolveError>
+    where
+        F: Formulation,
+    {
         Ok(())
     }
 }
@@ -76,7 +93,13 @@ pub fn integrate<F: Formulation>(
                     sink.event(stepper.formulation(), &event, before, after)?;
                 }
             }
-            Stop::EndReached => return Ok(stepper.stats().clone()),
+            Stop::EndReached => {}
+        }
+        if stepper.take_final_step() {
+            sink.on_step(&mut stepper.dense_step())?;
+        }
+        if stop == Stop::EndReached {
+            return Ok(stepper.stats().clone());
         }
     }
 }
@@ -99,7 +122,8 @@ fn emit_samples<F: Formulation>(
     Ok(())
 }
 
-/// The output grid t_k = t0 + k·dt, k = 0..=k_last (see the module documentation).
+/// The output grid t_k = t0 + k·dt, k = 0..=k_last, then t_end if it is not on the grid (see
+/// the module documentation).
 #[derive(Debug, Clone)]
 struct Grid {
     t0: f64,
@@ -107,6 +131,8 @@ struct Grid {
     dt: f64,
     k: u64,
     k_last: u64,
+    /// t_end is not within the slack of the grid point k_last: sample it as index k_last + 1.
+    end_extra: bool,
 }
 
 impl Grid {
@@ -116,19 +142,22 @@ impl Grid {
     fn new(t0: f64, t_end: f64, dt: f64) -> Self {
         // Saturating float-to-int cast: an astronomically fine grid just never ends early.
         let k_last = ((t_end - t0) / dt + Self::END_SLACK).floor().max(0.0) as u64;
+        let t_last = t0 + k_last as f64 * dt;
+        let end_extra = t_end - t_last > Self::END_SLACK * dt;
         Self {
             t0,
             t_end,
             dt,
             k: 0,
             k_last,
+            end_extra,
         }
     }
 
     /// Time of the next sample, if any is left.
     fn current(&self) -> Option<f64> {
         if self.k > self.k_last {
-            return None;
+            return (self.end_extra && self.k == self.k_last + 1).then_some(self.t_end);
         }
         let t = self.t0 + self.k as f64 * self.dt;
         if (t - self.t_end).abs() <= Self::END_SLACK * self.dt || t > self.t_end {
@@ -158,11 +187,19 @@ mod tests {
     }
 
     #[test]
-    fn grid_includes_t_end_only_when_on_the_grid() {
+    fn grid_always_ends_at_t_end() {
         assert_eq!(times(0.0, 1.0, 0.25), vec![0.0, 0.25, 0.5, 0.75, 1.0]);
         // 0.1·3 = 0.30000000000000004 > 0.3, but within 1e-9·dt: sampled at exactly 0.3.
         assert_eq!(times(0.0, 0.3, 0.1), vec![0.0, 0.1, 0.2, 0.3]);
-        assert_eq!(times(0.0, 1.1, 0.25), vec![0.0, 0.25, 0.5, 0.75, 1.0]);
+        // Off the grid: one more, shorter interval to t_end (issue 14).
+        assert_eq!(times(0.0, 1.1, 0.25), vec![0.0, 0.25, 0.5, 0.75, 1.0, 1.1]);
+        assert_eq!(times(0.0, 0.48, 0.3), vec![0.0, 0.3, 0.48]);
+        assert_eq!(times(0.0, 0.48, 1.0), vec![0.0, 0.48]);
+        // t_end 1e-9 s past the grid point 0.1·3 (beyond the slack 1e-9·dt = 1e-10 s): both.
+        assert_eq!(
+            times(0.0, 0.3 + 1e-9, 0.1),
+            vec![0.0, 0.1, 0.2, 0.1 * 3.0, 0.3 + 1e-9]
+        );
         assert_eq!(times(2.0, 2.0, 0.1), vec![2.0]);
     }
 

@@ -1,15 +1,21 @@
-//! Integrators: adaptive explicit Runge–Kutta methods with dense output, event location and
-//! output on a fixed time grid.
+//! Integrators: one [`Integrator`] trait that every method implements, a driver ([`Stepper`])
+//! that adds events, restarts and limits to any of them, and output on a fixed time grid.
 //!
 //! The integrators see only the [`Formulation`](crate::formulation::Formulation) trait, never a
-//! concrete mechanism. Two hand-written embedded pairs are available ([`Method`]):
+//! concrete mechanism; the driver, the event machinery and [`integrate`](fn@integrate) see a
+//! method only through [`Integrator`] (stepping, error control and dense output are the
+//! method's; `t_end`, `max_step`, events, restarts, sampling and the run limits are the
+//! driver's). Two hand-written embedded pairs and one implicit method are available
+//! ([`Method`]):
 //!
 //! * **DOPRI5**, the Dormand–Prince 5(4) pair \[1\] with the first-same-as-last (FSAL) property
 //!   and Hairer's 4th-order continuous extension \[2, Sec. II.6\], which costs no extra
 //!   right-hand-side (RHS) calls;
 //! * **DOP853**, Hairer's 8(5,3) pair \[2, Sec. II.10\] with the combined 5th/3rd-order error
 //!   estimate and a 7th-order continuous extension that needs 3 extra RHS calls — made only
-//!   for steps that are actually interpolated (an output sample or an event root inside).
+//!   for steps that are actually interpolated (an output sample or an event root inside);
+//! * **Radau5**, Radau IIA of order 5 after Hairer & Wanner's RADAU5 ([`radau5`]): implicit,
+//!   L-stable, for stiff phases (sustained contact), with a cubic dense output.
 //!
 //! Coefficients of DOP853 are copied digit for digit from SciPy's
 //! `scipy/integrate/_ivp/dop853_coefficients.py` \[3\], which transcribes Hairer's `dop853.f`.
@@ -17,15 +23,21 @@
 //! # Layout
 //! | file | job |
 //! |---|---|
-//! | [`options`] | [`Method`], [`SolverOptions`] and their validation |
+//! | [`options`] | [`Method`] (the one selector of every method), [`SolverOptions`] (shared options, per-method settings) and their validation |
+//! | [`integrator`] | the [`Integrator`] trait, its contract, [`ErrorWeights`] (tolerances, error-controlled components) |
+//! | `methods` | the one `match` from a [`Method`] to its [`Integrator`] |
 //! | [`stats`] | [`SolverStats`], the cost of a run |
 //! | [`error`] | [`SolveError`] |
-//! | `rk` | kernels shared by both methods: counted RHS calls, stage sums, error scale |
-//! | `dopri5`, `dop853` | tableaus, one step, error norm, dense output of each method |
+//! | `explicit` | `ExplicitRk<P>`: any explicit pair with Hairer's controller, FSAL, lazy dense output, stiffness test |
+//! | `rk` | kernels shared by the pairs: counted RHS calls, stage sums, error scale |
+//! | `dopri5`, `dop853` | tableau, one step, error norm, dense output of each pair |
+//! | [`radau5`] | Radau IIA order 5: the method core, its [`Integrator`] adapter, a stand-alone driver |
 //! | `control` | step-size controller and initial step (Hairer's `hinit`) |
-//! | [`stepper`] | [`Stepper`]: one accepted step per call, [`Stop`] says why it stopped |
-//! | [`events`] | [`EventRecord`], sign-change detection and root location on the dense output |
-//! | [`integrate`](mod@integrate) | [`integrate`](fn@integrate): a whole run with samples on a grid, sent to a [`Sink`] |
+//! | [`stepper`] | [`Stepper`], the driver: one accepted step per call, [`Stop`] says why it stopped |
+//! | `progress` | the run limits `max_wall` and the no-progress rule |
+//! | [`events`] | [`EventRecord`], sign-change detection and root location on any dense output |
+//! | [`dense`] | [`DenseStep`], the dense output of one step as sinks see it |
+//! | [`integrate`](mod@integrate) | [`integrate`](fn@integrate): a whole run with samples on a grid, sent to a [`Sink`] (samples, events, a per-step hook) |
 //!
 //! # Example
 //! ```
@@ -73,12 +85,17 @@
 //!    `dop853_coefficients.py`.
 
 mod control;
+pub mod dense;
 mod dop853;
 mod dopri5;
 pub mod error;
 pub mod events;
+mod explicit;
 pub mod integrate;
+pub mod integrator;
+mod methods;
 pub mod options;
+mod progress;
 pub mod radau5;
 pub mod record;
 mod rk;
@@ -88,10 +105,12 @@ pub mod stepper;
 #[cfg(test)]
 mod order_conditions;
 
+pub use dense::DenseStep;
 pub use error::SolveError;
 pub use events::EventRecord;
 pub use integrate::{Sink, integrate};
-pub use options::{Method, SolverOptions};
+pub use integrator::{Attempt, ErrorWeights, Integrator, Rejection, Start, Trial};
+pub use options::{ExplicitRkSettings, Method, SolverOptions};
 pub use record::Recorder;
 pub use stats::SolverStats;
 pub use stepper::{Stepper, Stop};

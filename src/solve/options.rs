@@ -7,9 +7,16 @@ use serde::Serialize;
 
 use super::error::SolveError;
 
-/// Explicit embedded Runge–Kutta pair used by the [`Stepper`](crate::solve::Stepper).
+/// The integration method used by the [`Stepper`](crate::solve::Stepper): the one selector for
+/// every integrator.
 ///
-/// Names (for [`FromStr`], [`Display`](fmt::Display) and serde): `"dopri5"`, `"dop853"`.
+/// Names (for [`FromStr`], [`Display`](fmt::Display) and serde): `"dopri5"`, `"dop853"`,
+/// `"radau5"`.
+///
+/// Adding a method is local: a variant here with an arm in each `match` of this `impl` (name,
+/// order, dense order, description, implicit or not, default β), the variant in [`Method::ALL`],
+/// and one arm in `solve::methods::new_integrator` that builds its
+/// [`Integrator`](crate::solve::Integrator).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Method {
@@ -20,11 +27,16 @@ pub enum Method {
     /// one), 7th-order dense output with 3 extra RHS calls per interpolated step. Good for
     /// tight tolerances.
     Dop853,
+    /// Radau IIA of order 5 (3 stages), implicit and L-stable, after Hairer & Wanner's RADAU5
+    /// ([`crate::solve::radau5`]): simplified Newton iterations with a forward-difference (or
+    /// the formulation's analytic) Jacobian, cubic dense output. For stiff phases (sustained
+    /// contact).
+    Radau5,
 }
 
 impl Method {
     /// All methods, in a fixed order (for sweeps in tests and benches).
-    pub const ALL: [Method; 2] = [Method::Dopri5, Method::Dop853];
+    pub const ALL: [Method; 3] = [Method::Dopri5, Method::Dop853, Method::Radau5];
 
     /// Name as accepted by [`FromStr`].
     #[must_use]
@@ -32,6 +44,7 @@ impl Method {
         match self {
             Method::Dopri5 => "dopri5",
             Method::Dop853 => "dop853",
+            Method::Radau5 => "radau5",
         }
     }
 
@@ -39,26 +52,64 @@ impl Method {
     #[must_use]
     pub fn order(self) -> u32 {
         match self {
-            Method::Dopri5 => 5,
+            Method::Dopri5 | Method::Radau5 => 5,
             Method::Dop853 => 8,
         }
     }
 
-    /// Order of the continuous extension (dense output): 4 or 7.
+    /// Order of the continuous extension (dense output): 4, 7, or 3 (Radau5).
     #[must_use]
     pub fn dense_order(self) -> u32 {
         match self {
             Method::Dopri5 => 4,
             Method::Dop853 => 7,
+            Method::Radau5 => 3,
         }
     }
 
-    /// Hairer's default PI-control exponent β: 0.04 for DOPRI5, 0 for DOP853.
+    /// Hairer's default PI-control exponent β: 0.04 for DOPRI5, 0 for DOP853 (explicit pairs
+    /// only; see [`ExplicitRkSettings::beta`]).
     #[must_use]
     pub fn default_beta(self) -> f64 {
         match self {
             Method::Dopri5 => 0.04,
-            Method::Dop853 => 0.0,
+            Method::Dop853 | Method::Radau5 => 0.0,
+        }
+    }
+
+    /// One line describing the method (for `linkdyn run --help`).
+    #[must_use]
+    pub fn description(self) -> &'static str {
+        match self {
+            Method::Dopri5 => {
+                "Dormand–Prince 5(4), explicit, 6 RHS calls per step, 4th-order dense output; loose tolerances (rtol ≳ 1e-7)"
+            }
+            Method::Dop853 => {
+                "Hairer's DOP853 8(5,3), explicit, 12 RHS calls per step, 7th-order dense output; tight tolerances (default)"
+            }
+            Method::Radau5 => {
+                "Radau IIA order 5 (RADAU5), implicit, L-stable, Newton with a finite-difference Jacobian, cubic dense output; stiff contact phases"
+            }
+        }
+    }
+
+    /// Whether the method is implicit (solves a nonlinear system per step: suited to stiff
+    /// problems).
+    #[must_use]
+    pub fn is_implicit(self) -> bool {
+        match self {
+            Method::Dopri5 | Method::Dop853 => false,
+            Method::Radau5 => true,
+        }
+    }
+
+    /// The names of all methods as `"a", "b" or "c"` (for messages).
+    fn names_list(methods: &[Method]) -> String {
+        let quoted: Vec<String> = methods.iter().map(|m| format!("\"{m}\"")).collect();
+        match quoted.split_last() {
+            None => String::new(),
+            Some((last, [])) => last.clone(),
+            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
         }
     }
 }
@@ -72,7 +123,7 @@ impl fmt::Display for Method {
 impl FromStr for Method {
     type Err = SolveError;
 
-    /// Parses `"dopri5"` or `"dop853"` (ASCII case ignored).
+    /// Parses a method name (`"dopri5"`, `"dop853"`; ASCII case ignored).
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Method::ALL
             .into_iter()
@@ -80,13 +131,32 @@ impl FromStr for Method {
             .ok_or_else(|| {
                 SolveError::invalid(
                     "method",
-                    format!("expected \"dopri5\" or \"dop853\", got \"{s}\""),
+                    format!("expected {}, got \"{s}\"", Method::names_list(&Method::ALL)),
                 )
             })
     }
 }
 
-/// Options of the explicit Runge–Kutta integrators.
+/// The implicit methods available, as `"a" or "b"` (empty if none), for advice in messages.
+pub(crate) fn implicit_methods() -> String {
+    let implicit: Vec<Method> = Method::ALL
+        .into_iter()
+        .filter(|m| m.is_implicit())
+        .collect();
+    Method::names_list(&implicit)
+}
+
+/// Settings of the explicit Runge–Kutta pairs only (ignored by other methods).
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct ExplicitRkSettings {
+    /// Exponent β of Hairer's PI step-size controller; `None` uses
+    /// [`Method::default_beta`] (0.04 for DOPRI5, 0 for DOP853). β = 0 is the classical
+    /// (I-only) controller.
+    pub beta: Option<f64>,
+}
+
+/// Options of a run: those shared by every integrator, plus per-method settings
+/// ([`SolverOptions::explicit_rk`]).
 ///
 /// Build them from [`SolverOptions::default`] with the builder methods and finish with
 /// [`SolverOptions::build`], which rejects out-of-range values with a message naming the option.
@@ -101,12 +171,14 @@ impl FromStr for Method {
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SolverOptions {
-    /// Runge–Kutta pair.
+    /// Integration method.
     pub method: Method,
-    /// Relative tolerance (dimensionless). The local error of component i is kept below
-    /// `atol + rtol·max(|y_i|, |y_new_i|)` in the root-mean-square sense.
+    /// Relative tolerance (dimensionless), in \[10 ε, 0.1\]. The local error of component i is
+    /// kept below `atol + rtol·max(|y_i|, |y_new_i|)` in the root-mean-square sense over the
+    /// error-controlled components
+    /// ([`Formulation::error_controlled`](crate::formulation::Formulation::error_controlled)).
     pub rtol: f64,
-    /// Absolute tolerance (units of the state components).
+    /// Absolute tolerance (units of the state components: m, rad, m/s, rad/s), in (0, 1].
     pub atol: f64,
     /// First step size (s); `None` chooses it with Hairer's `hinit` heuristic.
     pub h0: Option<f64>,
@@ -117,15 +189,18 @@ pub struct SolverOptions {
     /// Relative event-time tolerance: an event root is bracketed to
     /// |Δt| ≤ `event_tol`·max(1, |t|).
     pub event_tol: f64,
-    /// Exponent β of Hairer's PI step-size controller; `None` uses
-    /// [`Method::default_beta`] (0.04 for DOPRI5, 0 for DOP853). β = 0 is the classical
-    /// (I-only) controller.
-    pub beta: Option<f64>,
+    /// Largest wall-clock time of the run (s); `None`: no limit. Exceeding it is
+    /// [`SolveError::WallTimeExceeded`].
+    pub max_wall: Option<f64>,
     /// `Some(h)`: fixed step size h (s), no error control (the error estimate is not even
     /// computed). Steps are still shortened to meet `t_end`, `h_max`,
     /// [`Formulation::max_step`](crate::formulation::Formulation::max_step) and restarts at
     /// events. Meant for convergence studies; `None` (adaptive) otherwise.
     pub fixed_step: Option<f64>,
+    /// Settings of the explicit Runge–Kutta pairs.
+    pub explicit_rk: ExplicitRkSettings,
+    /// Settings of Radau5 (Newton iteration, Jacobian reuse, controller).
+    pub radau5: crate::solve::radau5::Radau5Settings,
 }
 
 impl Default for SolverOptions {
@@ -140,8 +215,9 @@ impl Default for SolverOptions {
     /// | `h_max` | `f64::INFINITY` (no limit) |
     /// | `max_steps` | 10 000 000 |
     /// | `event_tol` | 1e-12 (relative: \|Δt\| ≤ 1e-12·max(1, \|t\|)) |
-    /// | `beta` | `None` (0.04 for DOPRI5, 0 for DOP853) |
+    /// | `max_wall` | `None` (no limit) |
     /// | `fixed_step` | `None` (adaptive) |
+    /// | `explicit_rk.beta` | `None` (0.04 for DOPRI5, 0 for DOP853) |
     fn default() -> Self {
         Self {
             method: Method::Dop853,
@@ -151,16 +227,34 @@ impl Default for SolverOptions {
             h_max: f64::INFINITY,
             max_steps: 10_000_000,
             event_tol: 1e-12,
-            beta: None,
+            max_wall: None,
             fixed_step: None,
+            explicit_rk: ExplicitRkSettings::default(),
+            radau5: crate::solve::radau5::Radau5Settings::default(),
         }
     }
 }
 
 /// Smallest accepted `rtol`: below ten machine epsilons the error test cannot be met in f64.
 const RTOL_MIN: f64 = 10.0 * f64::EPSILON;
+/// Largest accepted `rtol`: above 10 % per step the controller's asymptotic error model
+/// (error ∝ h^q) no longer holds and no digit of the result is controlled; `rtol = 1` would
+/// accept almost any step.
+const RTOL_MAX: f64 = 0.1;
+/// Largest accepted `atol`: the states are SI positions, angles and velocities of a linkage,
+/// for which an absolute error of 1 (m, rad, m/s) already accepts any answer.
+const ATOL_MAX: f64 = 1.0;
 /// Smallest accepted `event_tol`: a bracket cannot shrink below a few ulps of t.
 const EVENT_TOL_MIN: f64 = 4.0 * f64::EPSILON;
+
+/// A number as a person would type it: plain between 1e-4 and 1e6, else in e-notation.
+fn show(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e6).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
 
 impl SolverOptions {
     /// Default options with a fixed step size h (s); see [`SolverOptions::fixed_step`].
@@ -218,10 +312,24 @@ impl SolverOptions {
         self
     }
 
-    /// Sets the PI-control exponent β (0 ≤ β ≤ 0.2).
+    /// Sets the settings of Radau5.
+    #[must_use]
+    pub fn radau5(mut self, settings: crate::solve::radau5::Radau5Settings) -> Self {
+        self.radau5 = settings;
+        self
+    }
+
+    /// Sets the PI-control exponent β of the explicit pairs (0 ≤ β ≤ 0.2).
     #[must_use]
     pub fn beta(mut self, beta: f64) -> Self {
-        self.beta = Some(beta);
+        self.explicit_rk.beta = Some(beta);
+        self
+    }
+
+    /// Sets the largest wall-clock time of the run (s).
+    #[must_use]
+    pub fn max_wall(mut self, seconds: f64) -> Self {
+        self.max_wall = Some(seconds);
         self
     }
 
@@ -244,24 +352,29 @@ impl SolverOptions {
     /// The PI exponent in use: `beta`, or the method's default.
     #[must_use]
     pub fn beta_or_default(&self) -> f64 {
-        self.beta.unwrap_or_else(|| self.method.default_beta())
+        self.explicit_rk
+            .beta
+            .unwrap_or_else(|| self.method.default_beta())
     }
 
     /// Checks every option; the error names the first bad one and what was expected.
     pub fn validate(&self) -> Result<(), SolveError> {
-        if !(self.rtol.is_finite() && self.rtol >= RTOL_MIN) {
+        if !(self.rtol >= RTOL_MIN && self.rtol <= RTOL_MAX) {
             return Err(SolveError::invalid(
                 "rtol",
                 format!(
-                    "expected a finite number ≥ {RTOL_MIN:.1e} (10 machine epsilons), got {}",
-                    self.rtol
+                    "expected a relative tolerance in [{RTOL_MIN:.1e}, {RTOL_MAX}] (10 machine epsilons to 10 % per step), got {}",
+                    show(self.rtol)
                 ),
             ));
         }
-        if !(self.atol.is_finite() && self.atol >= 0.0) {
+        if !(self.atol > 0.0 && self.atol <= ATOL_MAX) {
             return Err(SolveError::invalid(
                 "atol",
-                format!("expected a finite number ≥ 0, got {}", self.atol),
+                format!(
+                    "expected an absolute tolerance in (0, {ATOL_MAX}] (units of the states: m, rad, m/s, rad/s), got {}",
+                    show(self.atol)
+                ),
             ));
         }
         if let Some(h0) = self.h0
@@ -297,7 +410,15 @@ impl SolverOptions {
                 ),
             ));
         }
-        if let Some(beta) = self.beta
+        if let Some(seconds) = self.max_wall
+            && !(seconds.is_finite() && seconds > 0.0)
+        {
+            return Err(SolveError::invalid(
+                "max_wall",
+                format!("expected a finite wall-clock time > 0 s, got {seconds}"),
+            ));
+        }
+        if let Some(beta) = self.explicit_rk.beta
             && !(0.0..=0.2).contains(&beta)
         {
             return Err(SolveError::invalid(
@@ -313,6 +434,7 @@ impl SolverOptions {
                 format!("expected a finite step size > 0 s, got {h}"),
             ));
         }
+        self.radau5.validate_knobs()?;
         Ok(())
     }
 
@@ -352,11 +474,12 @@ mod tests {
         let d = SolverOptions::default;
         let cases: Vec<(SolverOptions, &str, &str)> = vec![
             (d().rtol(0.0), "`rtol`", "got 0"),
-            (d().rtol(-1e-6), "`rtol`", "got -0.000001"),
+            (d().rtol(-1e-6), "`rtol`", "got -1e-6"),
             (d().rtol(f64::NAN), "`rtol`", "NaN"),
             (d().rtol(1e-20), "`rtol`", "10 machine epsilons"),
-            (d().atol(-1.0), "`atol`", "≥ 0"),
+            (d().atol(-1.0), "`atol`", "(0, 1]"),
             (d().atol(f64::INFINITY), "`atol`", "inf"),
+            (d().max_wall(0.0), "`max_wall`", "> 0 s"),
             (d().h0(0.0), "`h0`", "> 0 s"),
             (d().h_max(0.0), "`h_max`", "> 0 s"),
             (d().h_max(f64::NAN), "`h_max`", "NaN"),
@@ -376,14 +499,45 @@ mod tests {
     }
 
     #[test]
-    fn infinite_h_max_and_atol_zero_are_allowed() {
-        assert!(
-            SolverOptions::default()
-                .h_max(f64::INFINITY)
-                .atol(0.0)
-                .build()
-                .is_ok()
-        );
+    fn infinite_h_max_and_the_range_ends_are_allowed() {
+        let d = SolverOptions::default;
+        for opts in [
+            d().h_max(f64::INFINITY),
+            d().rtol(RTOL_MAX).atol(ATOL_MAX),
+            d().rtol(RTOL_MIN).atol(f64::MIN_POSITIVE),
+        ] {
+            assert!(opts.clone().build().is_ok(), "{opts:?}");
+        }
+    }
+
+    /// The messages of issue 14 (`--rtol 1`, `--rtol -1`, `--atol 0`, `--atol 1e308`), exactly.
+    #[test]
+    fn out_of_range_tolerances_have_exact_messages() {
+        let rtol = |v| {
+            format!(
+                "invalid solver option `rtol`: expected a relative tolerance in [2.2e-15, 0.1] (10 machine epsilons to 10 % per step), got {v}"
+            )
+        };
+        let atol = |v| {
+            format!(
+                "invalid solver option `atol`: expected an absolute tolerance in (0, 1] (units of the states: m, rad, m/s, rad/s), got {v}"
+            )
+        };
+        let d = SolverOptions::default;
+        assert_eq!(message(d().rtol(1.0)), rtol("1"));
+        assert_eq!(message(d().rtol(-1.0)), rtol("-1"));
+        assert_eq!(message(d().atol(0.0)), atol("0"));
+        assert_eq!(message(d().atol(1e308)), atol("1e308"));
+    }
+
+    #[test]
+    fn every_method_has_a_description() {
+        for m in Method::ALL {
+            assert!(
+                !m.description().is_empty() && !m.description().contains('\n'),
+                "{m}"
+            );
+        }
     }
 
     #[test]
@@ -404,7 +558,7 @@ mod tests {
         assert_eq!(
             err,
             Err(
-                "invalid solver option `method`: expected \"dopri5\" or \"dop853\", got \"rk4\""
+                "invalid solver option `method`: expected \"dopri5\", \"dop853\" or \"radau5\", got \"rk4\""
                     .into()
             )
         );

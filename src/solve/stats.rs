@@ -5,18 +5,40 @@ use serde::Serialize;
 
 /// Counters of one integration run.
 ///
-/// The RHS calls add up exactly (checked in `tests/adaptive_tolerance.rs`):
+/// Identities (checked in `tests/adaptive_tolerance.rs` and `tests/overshooting_stages.rs`):
 ///
-/// * DOPRI5: `rhs_evals = 1 + [1 if hinit] + 6·(steps + rejected) + restarts`;
-/// * DOP853: `rhs_evals = 1 + [1 if hinit] + 12·steps + 11·rejected + dense_evals + restarts`,
+/// * every rejection has exactly one cause:
+///   `rejected = error_test_failures + newton_failures + recovered_rejections`;
+/// * step attempts: `steps + rejected` (the quantity limited by `max_steps`);
+/// * RHS calls of the explicit pairs, when no stage failed (`recovered_rejections = 0`):
+///   * DOPRI5: `rhs_evals = 1 + [1 if hinit] + 6·(steps + rejected) + restarts`;
+///   * DOP853: `rhs_evals = 1 + [1 if hinit] + 12·steps + 11·rejected + dense_evals + restarts`,
 ///
-/// where the leading 1 is f(t0, y0) and `hinit` runs when no `h0` or fixed step is given.
+///   where the leading 1 is f(t0, y0) and `hinit` runs when no `h0` or fixed step is given
+///   (a recovered rejection stops at the failing stage, so it costs fewer calls);
+/// * the explicit pairs make no Newton iterations and no Jacobians: `newton_iterations`,
+///   `newton_failures` and `jacobian_evals` are 0 for them.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct SolverStats {
     /// Accepted steps, including steps cut short at an event that restarted the integrator.
     pub steps: u64,
-    /// Rejected step attempts (local error estimate above tolerance, or a non-finite estimate).
+    /// Rejected step attempts, all causes: the sum of `error_test_failures`,
+    /// `newton_failures` and `recovered_rejections`.
     pub rejected: u64,
+    /// Rejections because the local error estimate was above tolerance (or NaN/∞).
+    pub error_test_failures: u64,
+    /// Rejections because a stage could not be evaluated at a trial state but a smaller step
+    /// may avoid it: a recoverable
+    /// [`FormulationError`](crate::formulation::FormulationError::is_recoverable), e.g. a trial
+    /// stage that overshoots deep into a contact. The step is retried with a quarter of its size.
+    pub recovered_rejections: u64,
+    /// Rejections because the Newton iteration of an implicit method did not converge (0 for the
+    /// explicit pairs).
+    pub newton_failures: u64,
+    /// Newton iterations of an implicit method, over all attempts (0 for the explicit pairs).
+    pub newton_iterations: u64,
+    /// Jacobian evaluations of an implicit method (0 for the explicit pairs).
+    pub jacobian_evals: u64,
     /// Calls of [`Formulation::rhs`](crate::formulation::Formulation::rhs), all included.
     pub rhs_evals: u64,
     /// Of `rhs_evals`, the extra stages of DOP853's dense output (3 per interpolated step;
@@ -68,6 +90,11 @@ mod tests {
         for field in [
             "steps",
             "rejected",
+            "error_test_failures",
+            "recovered_rejections",
+            "newton_failures",
+            "newton_iterations",
+            "jacobian_evals",
             "rhs_evals",
             "dense_evals",
             "events",

@@ -1,4 +1,9 @@
-//! [`Stepper`]: the adaptive Runge–Kutta integrator, one accepted step (or one event) per call.
+//! [`Stepper`]: the driver of an [`Integrator`] — one accepted step (or one event) per call.
+//!
+//! The method (chosen by [`SolverOptions::method`]) owns stepping, error control and dense
+//! output; the driver owns everything around it: the clamps of the step size, events and
+//! restarts, the limits (`max_steps`, `max_wall`, the no-progress rule of `progress.rs`, the
+//! step floor) and NaN checks (see [`Integrator`] for the contract).
 //!
 //! Each call of [`Stepper::step`] says why it stopped ([`Stop`]). After it returns, the
 //! trajectory is final up to [`Stepper::t_reached`] and the dense output of the last step can be
@@ -11,18 +16,22 @@
 //! less than 1 % of itself before `t_end` is stretched to end exactly on `t_end` (as in Hairer's
 //! codes), unless that breaks one of the other limits. A step below 16 machine epsilons of
 //! max(|t|, |t_end|) is an error ([`SolveError::StepTooSmall`], or [`SolveError::NonFinite`]
-//! if the rejections came from NaN/∞). The step controller is in `control.rs`.
+//! if the rejections came from NaN/∞). A stage that fails recoverably
+//! ([`FormulationError::is_recoverable`](crate::formulation::FormulationError::is_recoverable))
+//! is retried with a quarter of the step.
 //!
 //! **Allocation.** All stage, dense-output and event vectors are allocated by
 //! [`Stepper::new`]; stepping, interpolating and locating events allocate nothing.
 
-use super::control::{Controller, Decision, InitialStep, initial_step};
+use super::dense::DenseStep;
 use super::error::SolveError;
 use super::events::{EventRecord, EventState};
+use super::integrator::{Attempt, ErrorWeights, Integrator, Rejection, Start, Trial};
+use super::methods::new_integrator;
 use super::options::{Method, SolverOptions};
-use super::rk::{StepBuffers, eval_rhs, first_non_finite};
+use super::progress::{AttemptAt, Progress};
+use super::rk::{eval_rhs, first_non_finite};
 use super::stats::SolverStats;
-use super::{dop853, dopri5};
 use crate::formulation::Formulation;
 
 /// Why [`Stepper::step`] returned.
@@ -86,42 +95,70 @@ pub(super) enum Phase {
 /// assert!((stepper.y()[0] - (-2f64).exp()).abs() < 1e-9);
 /// # Ok::<(), linkdyn::solve::SolveError>(())
 /// ```
+/// Integrator of a [`Formulation`] from `t0` to `t_end` with the method of the options.
+///
+/// ```
+/// use linkdyn::formulation::{Formulation, FormulationError};
+/// use linkdyn::solve::{SolverOptions, Stepper, Stop};
+///
+/// struct Decay;
+/// impl Formulation for Decay {
+///     fn n_states(&self) -> usize { 1 }
+///     fn initial_state(&self) -> Vec<f64> { vec![1.0] }
+///     fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
+///         dy[0] = -y[0];
+///         Ok(())
+///     }
+/// }
+///
+/// let mut f = Decay;
+/// let mut stepper = Stepper::new(&mut f, 0.0, &[1.0], 2.0, &SolverOptions::default())?;
+/// let mut mid = [0.0];
+/// while stepper.step()? != Stop::EndReached {
+///     let (a, b) = stepper.dense_range();
+///     stepper.interpolate(0.5 * (a + b), &mut mid)?;
+///     assert!((mid[0] - (-0.5 * (a + b)).exp()).abs() < 1e-8);
+/// }
+/// assert!((stepper.y()[0] - (-2f64).exp()).abs() < 1e-9);
+/// # Ok::<(), linkdyn::solve::SolveError>(())
+/// ```
 pub struct Stepper<'a, F: Formulation> {
     pub(super) f: &'a mut F,
+    pub(super) integrator: Box<dyn Integrator<F> + 'a>,
     pub(super) opts: SolverOptions,
     pub(super) n: usize,
     pub(super) t_end: f64,
-    /// Current time and state (start of the next step) and f(t, y) (the FSAL stage).
+    /// Current time and state (start of the next step).
     pub(super) t: f64,
     pub(super) y: Vec<f64>,
+    /// f(t, y) at the last (re)start (for the events' look-ahead).
     pub(super) dy: Vec<f64>,
-    /// Last accepted step: from (t_old, y_old) with size h_step to y_new.
+    /// Last accepted step: from (t_old, y_old) with size h_step.
     pub(super) t_old: f64,
     pub(super) h_step: f64,
     pub(super) y_old: Vec<f64>,
-    pub(super) y_new: Vec<f64>,
     /// The dense output is valid on [t_old, dense_end] (dense_end < t_old + h_step after a
     /// restart cut the step short).
     pub(super) dense_end: f64,
-    pub(super) dense_ready: bool,
     /// Whether `y` is still the end of the last step (not replaced by an event restart).
     pub(super) y_is_step_end: bool,
-    pub(super) k: Vec<Vec<f64>>,
-    pub(super) dense: Vec<Vec<f64>>,
-    pub(super) y_stage: Vec<f64>,
-    pub(super) scratch: Vec<f64>,
     pub(super) h_next: f64,
-    pub(super) controller: Controller,
     pub(super) t_reached: f64,
     pub(super) phase: Phase,
     pub(super) ev: EventState,
     pub(super) stats: SolverStats,
+    progress: Progress,
+    /// The last accepted step is final (no later event can cut it) ...
+    pub(super) step_final: bool,
+    /// ... and has been handed to the sink's step hook.
+    step_hooked: bool,
 }
 
 impl<'a, F: Formulation> Stepper<'a, F> {
     /// Prepares integration of `f` from (t0, y0) to t_end ≥ t0 (forward only): validates the
-    /// options, evaluates f(t0, y0), chooses the first step (`h0`, the fixed step, or Hairer's
-    /// `hinit`, one more RHS call) and evaluates the event functions at t0.
+    /// options, evaluates f(t0, y0), chooses the first step (`h0`, the fixed step, or the
+    /// method's own guess, e.g. Hairer's `hinit` with one more RHS call) and evaluates the
+    /// event functions at t0.
     pub fn new(
         f: &'a mut F,
         t0: f64,
@@ -155,16 +192,10 @@ impl<'a, F: Formulation> Stepper<'a, F> {
         if let Some(component) = first_non_finite(y0) {
             return Err(SolveError::NonFinite { t: t0, component });
         }
-        let n_stages = match opts.method {
-            Method::Dopri5 => dopri5::STAGES,
-            Method::Dop853 => dop853::STAGES,
-        };
-        let n_dense = match opts.method {
-            Method::Dopri5 => dopri5::DENSE_VECTORS,
-            Method::Dop853 => dop853::DENSE_VECTORS,
-        };
+        let weights = ErrorWeights::new(&*f, opts.rtol, opts.atol);
         let ne = f.n_events();
         let mut stepper = Stepper {
+            integrator: new_integrator::<F>(opts, n, weights),
             opts: opts.clone(),
             n,
             t_end,
@@ -174,20 +205,16 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             t_old: t0,
             h_step: 0.0,
             y_old: y0.to_vec(),
-            y_new: y0.to_vec(),
             dense_end: t0,
-            dense_ready: true,
             y_is_step_end: true,
-            k: vec![vec![0.0; n]; n_stages],
-            dense: vec![vec![0.0; n]; n_dense],
-            y_stage: vec![0.0; n],
-            scratch: vec![0.0; n],
             h_next: 0.0,
-            controller: Controller::new(opts.method, opts.beta_or_default()),
             t_reached: t0,
             phase: Phase::Ready,
             ev: EventState::new(n, ne, t0),
             stats: SolverStats::default(),
+            progress: Progress::new(t0, opts.max_wall),
+            step_final: false,
+            step_hooked: false,
             f,
         };
         eval_rhs(
@@ -197,41 +224,31 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             &mut stepper.dy,
             &mut stepper.stats.rhs_evals,
         )?;
+        stepper.integrator.restart(t0, &stepper.y, &stepper.dy);
         stepper.h_next = match (opts.fixed_step, opts.h0) {
             (Some(h), _) | (None, Some(h)) => h,
-            (None, None) if t_end > t0 => stepper.automatic_first_step()?,
+            (None, None) if t_end > t0 => {
+                let h_cap = stepper.step_cap()?.min(t_end - t0);
+                let start = Start {
+                    t: t0,
+                    y: &stepper.y,
+                    f0: &stepper.dy,
+                    h_cap,
+                };
+                stepper
+                    .integrator
+                    .initial_step(&*stepper.f, &start, &mut stepper.stats)?
+            }
             (None, None) => 0.0,
         };
         stepper.init_events();
         Ok(stepper)
     }
 
-    /// Hairer's `hinit` at (t, y).
-    fn automatic_first_step(&mut self) -> Result<f64, SolveError> {
-        let h_cap = self.step_cap()?.min(self.t_end - self.t);
-        let q = match self.opts.method {
-            Method::Dopri5 => 5.0,
-            Method::Dop853 => 8.0,
-        };
-        let p = InitialStep {
-            t0: self.t,
-            y0: &self.y,
-            f0: &self.dy,
-            h_cap,
-            tol: (self.opts.rtol, self.opts.atol),
-            q,
-        };
-        let Some(f1) = self.k.get_mut(1) else {
-            debug_assert!(false, "every method has at least two stages");
-            return Ok(h_cap.min(1e-6));
-        };
-        initial_step(
-            &*self.f,
-            &p,
-            &mut self.y_stage,
-            f1,
-            &mut self.stats.rhs_evals,
-        )
+    /// The method in use.
+    #[must_use]
+    pub fn method(&self) -> Method {
+        self.integrator.method()
     }
 
     /// min(h_max, max_step(t, y)), checking the formulation's answer.
@@ -286,12 +303,24 @@ impl<'a, F: Formulation> Stepper<'a, F> {
     fn finish_step(&mut self) -> Stop {
         self.finish_events();
         self.t_reached = self.t;
+        self.step_final = self.h_step > 0.0;
         if self.t >= self.t_end {
             self.phase = Phase::Done;
             Stop::EndReached
         } else {
             self.phase = Phase::Ready;
             Stop::Step
+        }
+    }
+
+    /// True once per accepted step, when it has become final (no event can cut it any more):
+    /// the moment for [`Sink::on_step`](crate::solve::Sink::on_step).
+    pub(crate) fn take_final_step(&mut self) -> bool {
+        if self.step_final && !self.step_hooked {
+            self.step_hooked = true;
+            true
+        } else {
+            false
         }
     }
 
@@ -308,7 +337,6 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             self.h_step = 0.0;
             self.t = self.t_end;
             self.dense_end = self.t_end;
-            self.dense_ready = true;
             self.y_is_step_end = true;
             self.ev.g_hi.copy_from_slice(&self.ev.g_lo);
             return Ok(false);
@@ -320,12 +348,19 @@ impl<'a, F: Formulation> Stepper<'a, F> {
         // The last recoverable failure of a trial stage (see `FormulationError::is_recoverable`):
         // reported if the step cannot shrink any further.
         let mut recoverable: Option<SolveError> = None;
-        let (rtol, atol) = (self.opts.rtol, self.opts.atol);
+        let adaptive = self.opts.fixed_step.is_none();
         loop {
             let attempts = self.stats.steps + self.stats.rejected;
             if attempts >= self.opts.max_steps {
                 return Err(SolveError::TooManySteps { t, steps: attempts });
             }
+            self.progress.before_attempt(&AttemptAt {
+                t,
+                t_end: self.t_end,
+                attempts,
+                max_steps: self.opts.max_steps,
+                stiff: self.integrator.stiffness_detected(),
+            })?;
             let last = remaining <= 1.01 * h && remaining <= cap_other;
             if last {
                 h = remaining;
@@ -338,128 +373,68 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                 });
             }
             let t_new = if last { self.t_end } else { t + h };
-            if let Some(k0) = self.k.first_mut() {
-                k0.copy_from_slice(&self.dy);
-            }
-            let buf = StepBuffers {
-                k: &mut self.k,
-                y_new: &mut self.y_new,
-                y_stage: &mut self.y_stage,
+            let trial = Trial {
+                t,
+                y: &self.y,
+                h,
+                t_new,
+                error_control: adaptive,
             };
-            let evals = &mut self.stats.rhs_evals;
-            let stages = match self.opts.method {
-                Method::Dopri5 => dopri5::step(&*self.f, t, h, t_new, &self.y, buf, evals),
-                Method::Dop853 => dop853::step(&*self.f, t, h, &self.y, buf, evals),
-            };
-            if let Some(e) = self.retry_on_recoverable(stages)? {
-                recoverable = Some(e);
-                h = (0.25 * h).min(cap);
-                continue;
-            }
-            let tol = (rtol, atol);
-            let err = match (self.opts.fixed_step, self.opts.method) {
-                (Some(_), _) => 0.0,
-                (None, Method::Dopri5) => {
-                    dopri5::error_norm(h, &self.y, &self.y_new, &self.k, tol, &mut self.scratch)
-                }
-                (None, Method::Dop853) => {
-                    let scratch = (&mut self.scratch[..], &mut self.y_stage[..]);
-                    dop853::error_norm(h, &self.y, &self.y_new, &self.k, tol, scratch)
-                }
-            };
-            let h_next = if self.opts.fixed_step.is_some() {
-                h
-            } else {
-                match self.controller.decide(err, h) {
-                    Decision::Accept { h_next } => h_next,
-                    Decision::Reject { h_next } => {
-                        self.stats.rejected += 1;
-                        if !err.is_finite() {
-                            non_finite = first_non_finite(&self.y_new).or(non_finite);
-                        }
-                        h = h_next.min(cap);
-                        continue;
+            let h_next = match self.integrator.attempt(&*self.f, &trial, &mut self.stats) {
+                Ok(Attempt::Accepted { h_next }) => h_next,
+                Ok(Attempt::Rejected { h_next, cause }) => {
+                    self.stats.rejected += 1;
+                    if cause == Rejection::NonFinite {
+                        non_finite = first_non_finite(self.integrator.solution()).or(non_finite);
                     }
+                    h = h_next.min(cap);
+                    continue;
                 }
+                Err(SolveError::Formulation { t, source })
+                    if source.is_recoverable() && adaptive =>
+                {
+                    self.stats.rejected += 1;
+                    self.stats.recovered_rejections += 1;
+                    recoverable = Some(SolveError::Formulation { t, source });
+                    h = (0.25 * h).min(cap);
+                    continue;
+                }
+                Err(e) => return Err(e),
             };
-            if let Some(component) = first_non_finite(&self.y_new) {
+            let y_new = self.integrator.solution();
+            if let Some(component) = first_non_finite(y_new) {
                 return Err(SolveError::NonFinite {
                     t: t_new,
                     component,
                 });
             }
-            if self.opts.method == Method::Dop853 {
-                let end = dop853::fsal(
-                    &*self.f,
-                    t_new,
-                    &self.y_new,
-                    &mut self.k,
-                    &mut self.stats.rhs_evals,
-                );
-                if let Some(e) = self.retry_on_recoverable(end)? {
-                    recoverable = Some(e);
-                    h = (0.25 * h).min(cap);
-                    continue;
-                }
-            }
-            let fsal = match self.opts.method {
-                Method::Dopri5 => dopri5::FSAL,
-                Method::Dop853 => dop853::FSAL,
-            };
             std::mem::swap(&mut self.y_old, &mut self.y);
-            self.y.copy_from_slice(&self.y_new);
-            if let Some(k_last) = self.k.get(fsal) {
-                self.dy.copy_from_slice(k_last);
-            }
+            self.y.copy_from_slice(y_new);
             self.t_old = t;
             self.t = t_new;
             self.h_step = h;
             self.dense_end = t_new;
-            self.dense_ready = false;
             self.y_is_step_end = true;
+            self.step_final = false;
+            self.step_hooked = false;
             self.stats.record_step(h);
-            self.h_next = h_next;
+            self.h_next = if adaptive { h_next } else { h };
             return Ok(true);
         }
     }
 
-    /// Builds the dense output of the last step if not done yet (DOP853: 3 RHS calls).
-    pub(super) fn ensure_dense(&mut self) -> Result<(), SolveError> {
-        if self.dense_ready || self.h_step == 0.0 {
-            return Ok(());
+    /// The dense output of the last step with its valid range, as handed to sinks.
+    pub(crate) fn dense_step(&mut self) -> DenseStep<'_, F> {
+        DenseStep {
+            f: &*self.f,
+            integrator: &mut *self.integrator,
+            stats: &mut self.stats,
+            t_old: self.t_old,
+            dense_end: self.dense_end,
+            h_step: self.h_step,
+            y_old: &self.y_old,
+            end: self.y_is_step_end.then_some((self.t, &self.y[..])),
         }
-        match self.opts.method {
-            Method::Dopri5 => {
-                dopri5::prepare_dense(
-                    self.h_step,
-                    &self.y_old,
-                    &self.y_new,
-                    &self.k,
-                    &mut self.dense,
-                );
-            }
-            Method::Dop853 => {
-                dop853::extra_stages(
-                    &*self.f,
-                    self.t_old,
-                    self.h_step,
-                    &self.y_old,
-                    &mut self.k,
-                    &mut self.y_stage,
-                    &mut self.stats.rhs_evals,
-                )?;
-                self.stats.dense_evals += dop853::DENSE_EXTRA_EVALS;
-                dop853::dense_vectors(
-                    self.h_step,
-                    &self.y_old,
-                    &self.y_new,
-                    &self.k,
-                    &mut self.dense,
-                );
-            }
-        }
-        self.dense_ready = true;
-        Ok(())
     }
 
     /// Writes the dense-output state at time t, which must lie in [`Stepper::dense_range`]
@@ -467,38 +442,18 @@ impl<'a, F: Formulation> Stepper<'a, F> {
     /// step is interpolated. Before the first step, and at the exact ends of a step, the stored
     /// states are returned as they are.
     pub fn interpolate(&mut self, t: f64, out: &mut [f64]) -> Result<(), SolveError> {
-        if out.len() != self.n {
-            return Err(SolveError::StateLength {
-                what: "output buffer",
-                expected: self.n,
-                got: out.len(),
-            });
-        }
-        let slack = 8.0 * f64::EPSILON * self.t_old.abs().max(self.dense_end.abs());
-        if !(t >= self.t_old - slack && t <= self.dense_end + slack) {
-            return Err(SolveError::OutsideStep {
-                t,
-                t_start: self.t_old,
-                t_end: self.dense_end,
-            });
-        }
-        if self.h_step == 0.0 || t == self.t_old {
+        self.dense_step().interpolate(t, out)
+    }
+
+    /// The method's dense output at t inside the last step, without the range check and the
+    /// exact ends (for event location, which stays inside the step).
+    pub(super) fn dense_raw(&mut self, t: f64, out: &mut [f64]) -> Result<(), SolveError> {
+        if self.h_step == 0.0 {
             out.copy_from_slice(&self.y_old);
             return Ok(());
         }
-        if self.y_is_step_end && t == self.t {
-            out.copy_from_slice(&self.y);
-            return Ok(());
-        }
-        self.ensure_dense()?;
-        eval_dense(
-            self.opts.method,
-            self.theta_of(t),
-            &self.y_old,
-            &self.dense,
-            out,
-        );
-        Ok(())
+        self.integrator
+            .interpolate(&*self.f, t, out, &mut self.stats)
     }
 
     /// Number of states n.
@@ -539,7 +494,7 @@ impl<'a, F: Formulation> Stepper<'a, F> {
         (self.t_old, self.dense_end)
     }
 
-    /// Step size the controller proposes for the next step (s), before the clamps.
+    /// Step size the method proposes for the next step (s), before the clamps.
     #[must_use]
     pub fn h_next(&self) -> f64 {
         self.opts.fixed_step.unwrap_or(self.h_next)
@@ -564,42 +519,10 @@ impl<'a, F: Formulation> Stepper<'a, F> {
         &self.stats
     }
 
-    /// Turns a recoverable stage failure into a rejected step (`Ok(Some(error))`: retry smaller),
-    /// passes success through (`Ok(None)`) and other failures on (`Err`).
-    fn retry_on_recoverable(
-        &mut self,
-        stages: Result<(), SolveError>,
-    ) -> Result<Option<SolveError>, SolveError> {
-        match stages {
-            Ok(()) => Ok(None),
-            Err(SolveError::Formulation { t, source })
-                if source.is_recoverable() && self.opts.fixed_step.is_none() =>
-            {
-                self.stats.rejected += 1;
-                Ok(Some(SolveError::Formulation { t, source }))
-            }
-            Err(e) => Err(e),
-        }
-    }
-
     /// The formulation being integrated.
     #[must_use]
     pub fn formulation(&self) -> &F {
         self.f
-    }
-}
-
-/// Evaluates the dense output of `method` at θ.
-pub(super) fn eval_dense(
-    method: Method,
-    theta: f64,
-    y_old: &[f64],
-    dense: &[Vec<f64>],
-    out: &mut [f64],
-) {
-    match method {
-        Method::Dopri5 => dopri5::eval_dense(theta, y_old, dense, out),
-        Method::Dop853 => dop853::eval_dense(theta, y_old, dense, out),
     }
 }
 

@@ -16,6 +16,12 @@ use crate::solve::SolveError;
 /// Unit roundoff as RADAU5 uses it (`UROUND`).
 const UROUND: f64 = 1e-16;
 
+/// Error scale (relative and absolute) of the Newton norm in fixed-step mode.
+const FIXED_SCALE: f64 = 1e-13;
+/// Newton stopping tolerance in fixed-step mode, relative to [`FIXED_SCALE`]: the estimated
+/// remaining error is below 1e-15·(1 + |y_i|).
+const FIXED_NEWTON_TOL: f64 = 0.01;
+
 /// Why an attempt was rejected.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Rejection {
@@ -231,8 +237,18 @@ impl Radau5Core {
     ) -> Result<Outcome, SolveError> {
         let n = self.n;
         debug_assert_eq!(y.len(), n, "the driver's state has n components");
+        // Fixed-step mode ignores rtol and atol (as the explicit pairs do): Newton is iterated
+        // to ~1e-15 relative, with more iterations and without the early "too slow" exit,
+        // since h must not change.
+        let nit = self.settings.max_newton_iter;
+        let (rtol, atol, newton_tol, nit, predict) = if error_control {
+            let nm = &self.norms;
+            (nm.rtol, nm.atol, nm.newton_tol, nit, true)
+        } else {
+            (FIXED_SCALE, FIXED_SCALE, FIXED_NEWTON_TOL, 3 * nit, false)
+        };
         for (s, &v) in self.scal.iter_mut().zip(y) {
-            *s = self.norms.atol + self.norms.rtol * v.abs();
+            *s = atol + rtol * v.abs();
         }
         if self.need_jac && !self.jac_current {
             let calls = f
@@ -260,8 +276,6 @@ impl Radau5Core {
         self.starting_values(h);
 
         // Simplified Newton iteration.
-        let nit = self.settings.max_newton_iter;
-        let newton_tol = self.norms.newton_tol;
         self.faccon = self.faccon.max(UROUND).powf(0.8);
         self.theta = self.settings.theta_jac.abs();
         let (mut dyno_old, mut thq_old) = (0.0, 0.0);
@@ -317,7 +331,7 @@ impl Radau5Core {
                 self.faccon = self.theta / (1.0 - self.theta);
                 let left = (nit - 1 - newt) as i32;
                 let dyth = self.faccon * dyno * self.theta.powi(left) / newton_tol;
-                if dyth >= 1.0 {
+                if predict && dyth >= 1.0 {
                     // Convergence predicted too slow: retry with a step that should make it.
                     let qnewt = dyth.clamp(1e-4, 20.0);
                     let hhfac = 0.8 * qnewt.powf(-1.0 / (4.0 + f64::from(left)));

@@ -57,12 +57,14 @@
 //! 2. K. Gustafsson, "Control-theoretic techniques for stepsize selection in implicit
 //!    Runge–Kutta methods", *ACM Transactions on Mathematical Software* 20(4), 496–517, 1994.
 
+mod adapter;
 mod core;
 mod linalg;
 mod settings;
 mod tableau;
 
 pub use self::core::{Outcome, Radau5Core, Rejection};
+pub use adapter::Radau5Method;
 pub use settings::{Radau5Settings, Radau5Stats};
 
 use crate::formulation::Formulation;
@@ -120,7 +122,9 @@ impl Radau5 {
     /// (default 10⁻⁶ s, as RADAU5), `h_max`, `max_steps` and `fixed_step` are used; `method`,
     /// `beta` and `event_tol` are not.
     ///
-    /// With `fixed_step`, no error estimate is made; the step is still halved if Newton fails.
+    /// With `fixed_step`, no error estimate is made and `rtol`, `atol` are ignored: Newton is
+    /// iterated to ~10⁻¹⁵ relative (up to 3·`max_newton_iter` iterations); the step is still
+    /// halved if Newton fails.
     pub fn new<F: Formulation + ?Sized>(
         f: &F,
         t0: f64,

@@ -5,7 +5,8 @@ use serde::Serialize;
 
 use crate::solve::SolveError;
 
-/// Settings specific to [`Radau5`](super::Radau5), with Hairer's defaults from `radau5.f`.
+/// Settings specific to [`Radau5`](super::Radau5), with Hairer's defaults from `radau5.f`
+/// (used with error control; fixed-step mode iterates Newton to rounding level instead).
 ///
 /// | setting | default | Hairer's name |
 /// |---|---|---|
@@ -102,6 +103,21 @@ impl Radau5Settings {
 
     /// Checks every setting for a system of `n` states; the error names the first bad one.
     pub fn validate(&self, n: usize) -> Result<(), SolveError> {
+        self.validate_knobs()?;
+        if let Some(mask) = &self.error_mask
+            && mask.len() != n
+        {
+            return Err(SolveError::StateLength {
+                what: "error mask",
+                expected: n,
+                got: mask.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Checks every setting but the error mask (whose length depends on the formulation).
+    pub fn validate_knobs(&self) -> Result<(), SolveError> {
         if self.max_newton_iter == 0 {
             return Err(SolveError::invalid(
                 "max_newton_iter",
@@ -141,15 +157,6 @@ impl Radau5Settings {
                 "newton_tol",
                 format!("expected a finite number > 0, got {tol}"),
             ));
-        }
-        if let Some(mask) = &self.error_mask
-            && mask.len() != n
-        {
-            return Err(SolveError::StateLength {
-                what: "error mask",
-                expected: n,
-                got: mask.len(),
-            });
         }
         Ok(())
     }

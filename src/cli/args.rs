@@ -1,0 +1,58 @@
+//! Arguments shared by `run` and `compare`, turned into [`SimulationOptions`].
+
+use super::Failure;
+use clap::Args;
+use linkdyn::Error;
+use linkdyn::simulation::SimulationOptions;
+use linkdyn::solve::{Method, SolveError, SolverOptions};
+
+/// Time span, sampling and solver settings shared by `run` and `compare`.
+#[derive(Debug, Args)]
+pub struct SolveArgs {
+    /// End time (s).
+    #[arg(long, conflicts_with = "revs", allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Number of turns of the (single) driver; default 2.
+    #[arg(long, allow_negative_numbers = true)]
+    pub revs: Option<f64>,
+    /// Output sample interval (s); samples come from the dense output, not from solver steps.
+    #[arg(long, default_value_t = 1e-4, allow_negative_numbers = true)]
+    pub dt: f64,
+    /// Relative tolerance.
+    #[arg(long, default_value_t = 1e-8, allow_negative_numbers = true)]
+    pub rtol: f64,
+    /// Absolute tolerance.
+    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
+    pub atol: f64,
+    /// Integration method: dop853 (8th order) or dopri5 (5th order).
+    #[arg(long, default_value = "dop853")]
+    pub method: String,
+    /// Most step attempts before the solver gives up (with the time it reached).
+    #[arg(long, default_value_t = 10_000_000, allow_negative_numbers = true)]
+    pub max_steps: u64,
+    /// Override a model field: dotted path, array entries by name (repeatable), e.g.
+    /// `--set drivers.motor.speed_rpm=3500`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+impl SolveArgs {
+    /// The options these arguments ask for (checked against the model by `Simulation::new`).
+    pub fn options(&self) -> Result<SimulationOptions, Failure> {
+        let method: Method = self.method.parse().map_err(|e| match e {
+            SolveError::InvalidOption { option, reason } => Error::Settings { option, reason },
+            other => Error::Solve(other),
+        })?;
+        let solver = SolverOptions::default()
+            .method(method)
+            .rtol(self.rtol)
+            .atol(self.atol)
+            .max_steps(self.max_steps);
+        let options = SimulationOptions::default().dt(self.dt).solver(solver);
+        Ok(match (self.t_end, self.revs) {
+            (Some(t), _) => options.t_end(t),
+            (None, Some(turns)) => options.revs(turns),
+            (None, None) => options,
+        })
+    }
+}

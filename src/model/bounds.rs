@@ -1,0 +1,99 @@
+//! The range of every physical value a model file may give, and why.
+//!
+//! A value outside its range is refused with the bound and the reason: such values are either
+//! typing slips (a journal radius of 1e6 m, a clearance of 1e308 m) or outside what the laws in
+//! `contact/` and rigid-body mechanics describe, and letting them through gives overflow, a run
+//! that never ends, or numbers that look fine and mean nothing. Every bound is wide enough for
+//! every real linkage from MEMS to heavy machinery.
+//!
+//! Ranges that follow from the laws themselves are checked in `build.rs` where the value is read:
+//! every number finite; Poisson ratio ν ∈ (−1, 0.5) (a stable isotropic solid; ν = −1 makes the
+//! compliance σ = (1 − ν²)/E vanish and K infinite); coefficient of restitution c_r ∈ (0, 1], none
+//! for the purely elastic Hertz law (or exactly 1), at least [`MIN_FLORES_RESTITUTION`] for the
+//! Flores law; contact exponent n ∈ [1, 3]; friction coefficient c_f ≥ 0 and 0 ≤ v0 < v1; initial
+//! eccentricity |e0| < c (strictly: a contact under way at t = 0 has no impact velocity δ̇⁽⁻⁾ to
+//! scale its damping; such a run on the reference four-bar made no impact and did not finish in
+//! 1e7 steps, `docs/measurements.md`); clearance c < journal radius R_J.
+
+/// Smallest body mass (kg): a 1 µm steel cube weighs 7.9e-15 kg. Below this nothing is a rigid
+/// link, and the inverse mass 1/m that the formulations use grows without bound (1e300 at the
+/// 1e-300 kg of a typing slip).
+pub const MIN_MASS: f64 = 1e-15;
+
+/// Smallest moment of inertia about the centre of mass (kg·m²): that 1 µm steel cube has
+/// m a²/6 = 1.3e-27 kg·m². The same reasoning as for [`MIN_MASS`].
+pub const MIN_INERTIA: f64 = 1e-30;
+
+/// Smallest journal radius R_J (m): pins of micro-mechanisms are a few µm.
+pub const MIN_JOURNAL_RADIUS: f64 = 1e-6;
+
+/// Largest journal radius R_J (m): the largest journal bearings (ship shafts, turbines) are
+/// about 1 m in radius.
+pub const MAX_JOURNAL_RADIUS: f64 = 10.0;
+
+/// Smallest radial clearance c (m): 1 nm, the roughness of the best polished surfaces; below it
+/// a rigid-surface contact between journal and bearing means nothing. (The largest clearance is
+/// the journal radius itself, checked where both are known: a bearing of more than twice the
+/// journal's radius is not a joint with clearance.)
+pub const MIN_CLEARANCE: f64 = 1e-9;
+
+/// Smallest Young's modulus E (Pa): soft rubber and silicone, about 1 MPa.
+pub const MIN_YOUNGS_MODULUS: f64 = 1e6;
+
+/// Largest Young's modulus E (Pa): diamond, 1.2 TPa, the stiffest bulk material.
+pub const MAX_YOUNGS_MODULUS: f64 = 1.2e12;
+
+/// Smallest generalised contact stiffness K given directly (N/m^n). K = 4/(3(σ_J + σ_B)) ·
+/// √(R_J R_B/c) with σ = (1 − ν²)/E: materials and geometry within the bounds above (ν from 0
+/// to 0.5) give K from 9.4e2 (E = 1 MPa, c → R_J = 1 µm) to 3.4e17 (E = 1.2 TPa, ν → 0.5, R_J = 10 m,
+/// c = 1 nm); the bounds are that range rounded outward to a decade.
+pub const MIN_STIFFNESS: f64 = 1e2;
+
+/// Largest generalised contact stiffness K given directly (N/m^n): see [`MIN_STIFFNESS`].
+pub const MAX_STIFFNESS: f64 = 1e18;
+
+/// Smallest coefficient of restitution for the Flores et al. (2011) law. Its damping factor
+/// χ = 8(1 − c_r)/(5 c_r) grows as 1/c_r, so the contact gets stiff in its damping and an explicit
+/// integrator's steps shrink with it. On the reference four-bar (`models/farahan2016.toml`, DAE,
+/// DOP853, rtol 1e-8, 2 turns; see `docs/measurements.md`) c_r = 0.9 needs 8.8e4 right-hand-side
+/// evaluations, 0.01 1.5e5, 1e-3 5.7e5, 1e-4 5.0e6, 1e-5 4.2e7 (475×), and 1e-6 does not finish
+/// in 1e7 steps. Physically, c_r < 0.01 is a plastic impact (the journal keeps less than 1 % of
+/// its approach speed), which a continuous law with a finite stiffness does not describe.
+pub const MIN_FLORES_RESTITUTION: f64 = 0.01;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// K = 4/(3(σ_J + σ_B)) · √(R_J R_B/c), both sides of one material (docs/reference_parameters.md).
+    fn stiffness(e: f64, nu: f64, r_j: f64, c: f64) -> f64 {
+        let sigma = (1.0 - nu * nu) / e;
+        4.0 / (3.0 * 2.0 * sigma) * (r_j * (r_j + c) / c).sqrt()
+    }
+
+    #[test]
+    fn the_stiffness_bounds_enclose_what_the_material_and_size_bounds_give() {
+        // Reference check value first, so the formula here is the right one.
+        let k_ref = stiffness(207e9, 0.3, 0.01, 5e-4);
+        assert!(
+            (k_ref - 6.9494e10).abs() < 1e-4 * 6.9494e10,
+            "K_ref = {k_ref:e}"
+        );
+        // Softest: E = 1 MPa, ν = 0, c → R_J = 1 µm. Stiffest: E = 1.2 TPa, ν → 0.5, R_J = 10 m,
+        // c = 1 nm. The documented extremes, to two digits.
+        let soft = stiffness(
+            MIN_YOUNGS_MODULUS,
+            0.0,
+            MIN_JOURNAL_RADIUS,
+            MIN_JOURNAL_RADIUS,
+        );
+        let stiff = stiffness(MAX_YOUNGS_MODULUS, 0.5, MAX_JOURNAL_RADIUS, MIN_CLEARANCE);
+        assert!((soft - 9.4e2).abs() < 0.01 * 9.4e2, "softest K = {soft:e}");
+        assert!(
+            (stiff - 3.4e17).abs() < 0.01 * 3.4e17,
+            "stiffest K = {stiff:e}"
+        );
+        assert!(MIN_STIFFNESS <= soft && MIN_STIFFNESS > soft / 10.0);
+        assert!(MAX_STIFFNESS >= stiff && MAX_STIFFNESS < stiff * 10.0);
+    }
+}

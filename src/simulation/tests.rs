@@ -1,0 +1,207 @@
+//! The facade gives the numbers of a direct integration, refuses bad settings before any work,
+//! and its incremental summary equals the summary computed from all the samples.
+
+use super::*;
+use crate::formulation::Crossing;
+use crate::solve::Recorder;
+
+fn load(path: &str, overrides: &[&str]) -> Model {
+    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    match crate::model::load(path.as_ref(), &overrides) {
+        Ok(m) => m,
+        Err(e) => panic!("{path}: {e}"),
+    }
+}
+
+fn refusal(model: &Model, options: SimulationOptions) -> String {
+    match Simulation::new(model, options) {
+        Ok(_) => "accepted".to_string(),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn bad_settings_are_refused_naming_the_option() {
+    let fourbar = load("models/fourbar_ideal.toml", &[]);
+    let pendulum = load("models/pendulum.toml", &[]);
+    let still = load("models/fourbar_ideal.toml", &["drivers.motor.speed_rpm=0"]);
+    let o = SimulationOptions::default;
+    let cases = [
+        (
+            refusal(&pendulum, o()),
+            "revs: counts turns of the single driver, but model \"pendulum\" has 0 drivers: give `t_end`",
+        ),
+        (
+            refusal(&still, o()),
+            "revs: driver \"motor\" has zero speed: give `t_end` instead",
+        ),
+        (
+            refusal(&fourbar, o().revs(-1.0)),
+            "revs: expected a positive, finite number of turns, got -1",
+        ),
+        (
+            refusal(&fourbar, o().t_end(f64::INFINITY)),
+            "t_end: expected a positive, finite end time, got inf s",
+        ),
+        (
+            refusal(&fourbar, o().dt(0.0)),
+            "dt: expected a positive time step, got 0",
+        ),
+        (
+            refusal(
+                &fourbar,
+                o().formulation(FormulationKind::Reduced).energy(true),
+            ),
+            "energy: the energy bookkeeping is available for the DAE formulation only",
+        ),
+        (
+            refusal(&fourbar, o().formulation(FormulationKind::Reduced)),
+            "reduced formulation: needs exactly one clearance joint, between the coupler and the rocker; the model has 0",
+        ),
+    ];
+    for (got, expected) in cases {
+        assert_eq!(got, expected);
+    }
+    let rtol = refusal(&fourbar, o().solver(SolverOptions::default().rtol(-1.0)));
+    assert!(rtol.starts_with("rtol: expected"), "{rtol}");
+    // 1e5 s at 1e-4 s: 1e9 samples of the four-bar's columns, far above 1e9 values.
+    let big = refusal(&fourbar, o().t_end(1e5));
+    assert!(
+        big.starts_with("dt: 1e-4 s over 1e5 s asks for 1.000e9 samples × ")
+            && big.ends_with("at most 1e9 are allowed: raise `dt`"),
+        "{big}"
+    );
+}
+
+fn direct_recorder(model: &Model, t_end: f64, dt: f64, energy: bool) -> Recorder {
+    let options = DaeOptions {
+        energy,
+        ..DaeOptions::default()
+    };
+    let mut dae = Dae::new(model, &options).unwrap_or_else(|e| panic!("{e}"));
+    let y0 = dae.initial_state();
+    let mut rec = Recorder::new(&dae);
+    let opts = SolverOptions::default();
+    solve::integrate(&mut dae, 0.0, &y0, t_end, dt, &opts, &mut rec)
+        .unwrap_or_else(|e| panic!("{e}"));
+    rec
+}
+
+#[test]
+fn run_to_memory_gives_the_numbers_of_a_direct_integration_and_the_same_summary() {
+    // The clearance four-bar for a quarter turn (0.06 s at 250 rpm): several impacts, so the
+    // event counts, impact times and contact maxima are all exercised.
+    let model = load("models/farahan2016.toml", &[]);
+    let sim = Simulation::new(
+        &model,
+        SimulationOptions::default()
+            .revs(0.25)
+            .dt(1e-4)
+            .energy(true),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let run = sim.run_to_memory().unwrap_or_else(|e| panic!("{e}"));
+    let rec = direct_recorder(&model, sim.t_end(), 1e-4, true);
+    assert_eq!(run.names, rec.names);
+    assert_eq!(run.t, rec.t, "sample times");
+    assert_eq!(run.len(), sim.expected_samples());
+    for (k, name) in run.names.iter().enumerate() {
+        // Same formulation, same solver, same grid: bit-identical, not merely close.
+        assert_eq!(
+            Some(run.columns[k].clone()),
+            rec.column(name),
+            "column {name}"
+        );
+    }
+    assert_eq!(run.events, rec.events);
+    assert_eq!(run.constraint_violation, rec.violation);
+
+    // The incremental summary against the batch computation over all samples.
+    let s = &run.summary;
+    assert_eq!(s.samples, rec.len());
+    assert_eq!(s.max_constraint_violation, rec.max_constraint_violation);
+    let b = &s.clearance_joints[0];
+    let impacts: Vec<f64> = rec
+        .events
+        .iter()
+        .filter(|e| e.crossing == Crossing::Rising)
+        .map(|e| e.t)
+        .collect();
+    assert!(
+        impacts.len() > 3,
+        "the quarter turn has impacts: {impacts:?}"
+    );
+    assert_eq!(b.impacts, impacts.len());
+    assert_eq!(b.first_impact_times, impacts[..impacts.len().min(10)]);
+    let max = |c: &str| {
+        rec.column(c)
+            .unwrap_or_default()
+            .into_iter()
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    assert_eq!(b.max_penetration, max("B.delta"));
+    assert_eq!(b.peak_normal_force, max("B.fn"));
+    let e = s
+        .energy_balance
+        .as_ref()
+        .unwrap_or_else(|| panic!("energy balance expected with energy(true)"));
+    let last = |c: &str| rec.column(c).and_then(|v| v.last().copied());
+    assert_eq!(Some(e.driver_work), last("energy.driver_work"));
+    assert_eq!(Some(e.dissipated), last("energy.dissipated"));
+    assert_eq!(
+        e.max_abs_residual,
+        rec.column("energy.balance")
+            .unwrap_or_default()
+            .iter()
+            .fold(0.0, |m: f64, x| m.max(x.abs()))
+    );
+    assert_eq!(run.stats().events, rec.events.len() as u64);
+    assert_eq!(
+        run.provenance()
+            .settings
+            .get("formulation")
+            .map(String::as_str),
+        Some("dae")
+    );
+}
+
+#[test]
+fn a_streamed_run_has_the_summary_of_a_run_in_memory() {
+    let model = load("models/farahan2016.toml", &[]);
+    let sim = Simulation::new(
+        &model,
+        SimulationOptions::default()
+            .formulation(FormulationKind::Reduced)
+            .revs(0.1),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let streamed = sim.run(&mut Discard).unwrap_or_else(|e| panic!("{e}"));
+    let kept = sim.run_to_memory().unwrap_or_else(|e| panic!("{e}"));
+    // Wall time is the only thing allowed to differ.
+    let same = RunSummary {
+        wall_time_s: kept.summary.wall_time_s,
+        sink_time_s: kept.summary.sink_time_s,
+        ..streamed
+    };
+    let json = |s: &RunSummary| serde_json::to_string(s).unwrap_or_default();
+    assert_eq!(json(&same), json(&kept.summary));
+    assert_eq!(
+        sim.driver_turns(sim.t_end())
+            .map(|r| (r - 0.1).abs() < 1e-12),
+        Some(true),
+        "turns at t_end"
+    );
+}
+
+#[test]
+fn simulations_and_trajectories_can_cross_threads() {
+    // Parameter sweeps move one simulation into each thread and send the results back; the
+    // Python bindings release the GIL around a run. Both need these bounds (a compile-time
+    // check). A simulation is Send, not Sync: the DAE keeps scratch space in a RefCell, so
+    // threads each take a clone.
+    fn send<T: Send>() {}
+    fn send_sync<T: Send + Sync>() {}
+    send::<Simulation>();
+    send_sync::<Trajectory>();
+    send_sync::<RunSummary>();
+}
