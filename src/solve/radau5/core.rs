@@ -7,7 +7,7 @@
 //! f(t, y), the Jacobian, the LU factors, the step-size history and the last collocation
 //! polynomial. An attempt changes that committed state only when it is accepted.
 
-use super::linalg::{ComplexLu, RealLu};
+use super::linalg::{ComplexLu, Partition, RealLu};
 use super::settings::{Radau5Settings, Radau5Stats};
 use super::tableau::{C1, C1M1, C1MC2, C2, C2M1, DD, Eigen, T, TI};
 use crate::formulation::Formulation;
@@ -28,8 +28,11 @@ pub enum Rejection {
     /// The error estimate was ≥ 1 (in units of the tolerance).
     ErrorTest,
     /// The Newton iteration diverged (θ ≥ 0.99), was predicted not to converge in time, used up
-    /// `max_newton_iter`, produced NaN/∞, or an iteration matrix was singular.
+    /// `max_newton_iter`, or an iteration matrix was singular.
     NewtonFailure,
+    /// The Newton corrections became NaN or infinite (f returned NaN/∞ at a stage):
+    /// [`Radau5Core::solution`] then holds the offending stage state.
+    NonFinite,
 }
 
 /// Outcome of [`Radau5Core::attempt`].
@@ -78,6 +81,7 @@ pub struct Radau5Core {
     jac_current: bool,
     need_jac: bool,
     jac_work: Vec<f64>,
+    part: Partition,
     e1: RealLu,
     e2: ComplexLu,
     /// Step size of the LU factors (NaN: none valid).
@@ -143,6 +147,7 @@ impl Radau5Core {
             jac_current: false,
             need_jac: true,
             jac_work: vec![0.0; 2 * n],
+            part: Partition::new(n),
             e1: RealLu::new(n),
             e2: ComplexLu::new(n),
             lu_h: f64::NAN,
@@ -200,6 +205,8 @@ impl Radau5Core {
         match cause {
             Rejection::ErrorTest => stats.error_test_failures += 1,
             Rejection::NewtonFailure => stats.newton_failures += 1,
+            // Counted as the explicit pairs count a NaN error estimate.
+            Rejection::NonFinite => stats.error_test_failures += 1,
         }
         Outcome::Rejected {
             h_next: h_retry,
@@ -258,14 +265,15 @@ impl Radau5Core {
             stats.jacobian_rhs_evals += calls as u64;
             stats.rhs_evals += calls as u64;
             self.jac_current = true;
+            self.part.update(&self.jac);
             self.lu_h = f64::NAN;
         }
         self.need_jac = false;
         let (fac1, alphn, betan) = (self.eig.gamma / h, self.eig.alpha / h, self.eig.beta / h);
         if self.lu_h != h {
             stats.lu_decompositions += 1;
-            let ok = self.e1.factor(fac1, &self.jac).is_ok()
-                && self.e2.factor(alphn, betan, &self.jac).is_ok();
+            let ok = self.e1.factor(fac1, &self.jac, &self.part).is_ok()
+                && self.e2.factor(alphn, betan, &self.jac, &self.part).is_ok();
             if !ok {
                 self.lu_h = f64::NAN;
                 stats.singular_matrices += 1;
@@ -315,7 +323,11 @@ impl Radau5Core {
                 ((sq(&self.fs[0]) + sq(&self.fs[1]) + sq(&self.fs[2])) / 3.0).sqrt()
             };
             if !dyno.is_finite() {
-                return Ok(self.reject_with(0.5 * h, Rejection::NewtonFailure, stats));
+                // Show the driver where: the last stage value with the correction applied.
+                for k in 0..n {
+                    self.y_new[k] = y[k] + self.z[2][k] + self.fs[2][k];
+                }
+                return Ok(self.reject_with(0.5 * h, Rejection::NonFinite, stats));
             }
             if newt > 1 && newt < nit {
                 let thq = dyno / dyno_old;
