@@ -40,7 +40,11 @@ fn run(opts: &SolverOptions, dt_out: f64) -> Result<(f64, SolverStats), SolveErr
 #[test]
 fn global_error_is_proportional_to_rtol() -> Result<(), SolveError> {
     let rtols = [1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11];
-    for method in Method::ALL {
+    // The explicit pairs only: Radau5 works with Hairer's transformed tolerance
+    // 0.1·rtol^{2/3} and an order-3 error estimate, so its error is not proportional to rtol on
+    // this non-stiff oscillator (63·rtol at rtol = 1e-10); its accuracy is checked against
+    // rtol in tests/radau5_stiff_problems.rs.
+    for method in explicit_methods() {
         let mut errs = Vec::new();
         for &rtol in &rtols {
             let opts = SolverOptions::default()
@@ -105,13 +109,19 @@ fn expected_rhs_evals(method: Method, s: &SolverStats) -> u64 {
     let steps = match method {
         Method::Dopri5 => 6 * (s.steps + s.rejected),
         Method::Dop853 => 12 * s.steps + 11 * s.rejected,
+        Method::Radau5 => panic!("explicit pairs only (Radau5's counts: tests/radau5_*.rs)"),
     };
     2 + steps + s.dense_evals + s.restarts
 }
 
+/// The explicit pairs, whose RHS calls per step are fixed.
+fn explicit_methods() -> impl Iterator<Item = Method> {
+    Method::ALL.into_iter().filter(|m| !m.is_implicit())
+}
+
 #[test]
 fn stats_add_up() -> Result<(), SolveError> {
-    for method in Method::ALL {
+    for method in explicit_methods() {
         for rtol in [1e-4, 1e-8, 1e-12] {
             // Samples between steps (fine grid) and only at t0 and t_end (coarse grid).
             for dt_out in [T_END / 500.0, T_END] {
@@ -159,7 +169,7 @@ impl Formulation for Kink {
 
 #[test]
 fn stats_add_up_with_rejected_steps() -> Result<(), SolveError> {
-    for method in Method::ALL {
+    for method in explicit_methods() {
         for dt_out in [0.01, 2.0] {
             let opts = SolverOptions::default()
                 .method(method)

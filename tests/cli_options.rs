@@ -127,7 +127,7 @@ fn settings_that_do_not_fit_the_model_are_refused_before_any_work() {
     refused(
         "models/fourbar_ideal.toml",
         &["--method", "rk4"],
-        "--method: expected \"dopri5\" or \"dop853\", got \"rk4\"",
+        "--method: expected \"dopri5\", \"dop853\" or \"radau5\", got \"rk4\"",
     );
     refused(
         "models/fourbar_ideal.toml",

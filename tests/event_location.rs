@@ -145,11 +145,15 @@ fn restarts_reproduce_five_bounces() -> Result<(), SolveError> {
         );
         // Each restart costs exactly one RHS call (the new FSAL stage f(t_ev, y⁺)).
         let per_step = match method {
-            Method::Dopri5 => 6 * (stats.steps + stats.rejected),
-            Method::Dop853 => 12 * stats.steps + 11 * stats.rejected,
+            Method::Dopri5 => Some(6 * (stats.steps + stats.rejected)),
+            Method::Dop853 => Some(12 * stats.steps + 11 * stats.rejected),
+            // Newton iterations and Jacobians vary per step (counted in tests/radau5_*.rs).
+            Method::Radau5 => None,
         };
-        let expected = 2 + per_step + stats.dense_evals + stats.restarts;
-        assert_eq!(stats.rhs_evals, expected, "{method}: {stats:?}");
+        if let Some(per_step) = per_step {
+            let expected = 2 + per_step + stats.dense_evals + stats.restarts;
+            assert_eq!(stats.rhs_evals, expected, "{method}: {stats:?}");
+        }
         // After each bounce the ball is back above the floor: no sample below it (beyond the
         // ~1e-11 m the located time may lie past the root).
         let lowest = rec

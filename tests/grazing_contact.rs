@@ -249,8 +249,11 @@ fn guard_bites_only_near_the_wall() {
                 Err(e) => panic!("{method}: {e}"),
             };
             let (from, to) = stepper.dense_range();
-            // Full steps only: a step cut short at an event says nothing about the guard.
-            if stop == Stop::Step && gap >= C / 2.0 {
+            // Full steps only: a step cut short at an event says nothing about the guard. Radau5
+            // starts at 10⁻⁶ s (as RADAU5) and grows h at most 8× per step, so its start-up
+            // ramp (≥ 4 steps to reach 0.1 rad at ω ≈ 26 rad/s; 8 allowed) is no guard's doing.
+            let start_up = method == Method::Radau5 && stepper.stats().steps <= 8;
+            if stop == Stop::Step && gap >= C / 2.0 && !start_up {
                 smallest_far_step = smallest_far_step.min(to - from);
             }
             gap = -stepper

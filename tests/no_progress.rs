@@ -72,7 +72,8 @@ impl Formulation for Stiff {
 
 #[test]
 fn a_stiff_problem_is_called_stiff_and_an_implicit_method_is_suggested() {
-    for method in Method::ALL {
+    // The explicit methods: the implicit Radau5 solves this problem (in about 11 steps).
+    for method in Method::ALL.into_iter().filter(|m| !m.is_implicit()) {
         let err = failure(&mut Stiff, 100.0, &SolverOptions::default().method(method));
         let SolveError::NoProgress {
             t,

@@ -8,6 +8,7 @@ pub mod assembly;
 pub mod cholesky;
 pub mod contacts;
 pub mod dae;
+pub mod jacobian;
 pub mod reduced_lagrangian;
 
 pub use dae::{Dae, DaeOptions};
@@ -74,6 +75,25 @@ pub trait Formulation {
         _crossing: Crossing,
     ) -> EventResponse {
         EventResponse::Continue
+    }
+
+    /// Jacobian J = ∂f/∂y of [`Formulation::rhs`] at (t, y), written **row-major** into `out`
+    /// (length n²): `out[i * n + j]` = ∂f_i/∂y_j. `f_y` holds f(t, y); `work` is scratch of
+    /// length ≥ 2n. Returns the number of RHS calls it made, so that integrators can count
+    /// them (0 for an analytic Jacobian).
+    ///
+    /// Default: forward differences with Hairer's increment δ_j = √(10⁻¹⁶·max(10⁻⁵, |y_j|)),
+    /// n RHS calls ([`jacobian::finite_difference`]). Formulations may override it with an
+    /// analytic Jacobian; the implicit integrator (`solve::radau5`) is its only user.
+    fn jacobian(
+        &self,
+        t: f64,
+        y: &[f64],
+        f_y: &[f64],
+        out: &mut [f64],
+        work: &mut [f64],
+    ) -> Result<usize, FormulationError> {
+        jacobian::finite_difference(self, t, y, f_y, out, work)
     }
 
     /// Marks the states whose local error the integrators control. `controlled` (length

@@ -17,5 +17,11 @@ pub(crate) fn new_integrator<F: Formulation + ?Sized>(
     match opts.method {
         Method::Dopri5 => Box::new(ExplicitRk::<Dopri5>::new(n, weights, beta)),
         Method::Dop853 => Box::new(ExplicitRk::<Dop853>::new(n, weights, beta)),
+        Method::Radau5 => Box::new(super::radau5::Radau5Method::new(
+            n,
+            &weights,
+            opts.h_max,
+            &opts.radau5,
+        )),
     }
 }

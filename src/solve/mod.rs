@@ -5,14 +5,17 @@
 //! concrete mechanism; the driver, the event machinery and [`integrate`](fn@integrate) see a
 //! method only through [`Integrator`] (stepping, error control and dense output are the
 //! method's; `t_end`, `max_step`, events, restarts, sampling and the run limits are the
-//! driver's). Two hand-written embedded pairs are available ([`Method`]):
+//! driver's). Two hand-written embedded pairs and one implicit method are available
+//! ([`Method`]):
 //!
 //! * **DOPRI5**, the Dormand–Prince 5(4) pair \[1\] with the first-same-as-last (FSAL) property
 //!   and Hairer's 4th-order continuous extension \[2, Sec. II.6\], which costs no extra
 //!   right-hand-side (RHS) calls;
 //! * **DOP853**, Hairer's 8(5,3) pair \[2, Sec. II.10\] with the combined 5th/3rd-order error
 //!   estimate and a 7th-order continuous extension that needs 3 extra RHS calls — made only
-//!   for steps that are actually interpolated (an output sample or an event root inside).
+//!   for steps that are actually interpolated (an output sample or an event root inside);
+//! * **Radau5**, Radau IIA of order 5 after Hairer & Wanner's RADAU5 ([`radau5`]): implicit,
+//!   L-stable, for stiff phases (sustained contact), with a cubic dense output.
 //!
 //! Coefficients of DOP853 are copied digit for digit from SciPy's
 //! `scipy/integrate/_ivp/dop853_coefficients.py` \[3\], which transcribes Hairer's `dop853.f`.
@@ -28,6 +31,7 @@
 //! | `explicit` | `ExplicitRk<P>`: any explicit pair with Hairer's controller, FSAL, lazy dense output, stiffness test |
 //! | `rk` | kernels shared by the pairs: counted RHS calls, stage sums, error scale |
 //! | `dopri5`, `dop853` | tableau, one step, error norm, dense output of each pair |
+//! | [`radau5`] | Radau IIA order 5: the method core, its [`Integrator`] adapter, a stand-alone driver |
 //! | `control` | step-size controller and initial step (Hairer's `hinit`) |
 //! | [`stepper`] | [`Stepper`], the driver: one accepted step per call, [`Stop`] says why it stopped |
 //! | `progress` | the run limits `max_wall` and the no-progress rule |
@@ -92,6 +96,7 @@ pub mod integrator;
 mod methods;
 pub mod options;
 mod progress;
+pub mod radau5;
 pub mod record;
 mod rk;
 pub mod stats;

@@ -10,7 +10,8 @@ use super::error::SolveError;
 /// The integration method used by the [`Stepper`](crate::solve::Stepper): the one selector for
 /// every integrator.
 ///
-/// Names (for [`FromStr`], [`Display`](fmt::Display) and serde): `"dopri5"`, `"dop853"`.
+/// Names (for [`FromStr`], [`Display`](fmt::Display) and serde): `"dopri5"`, `"dop853"`,
+/// `"radau5"`.
 ///
 /// Adding a method is local: a variant here with an arm in each `match` of this `impl` (name,
 /// order, dense order, description, implicit or not, default β), the variant in [`Method::ALL`],
@@ -26,11 +27,16 @@ pub enum Method {
     /// one), 7th-order dense output with 3 extra RHS calls per interpolated step. Good for
     /// tight tolerances.
     Dop853,
+    /// Radau IIA of order 5 (3 stages), implicit and L-stable, after Hairer & Wanner's RADAU5
+    /// ([`crate::solve::radau5`]): simplified Newton iterations with a forward-difference (or
+    /// the formulation's analytic) Jacobian, cubic dense output. For stiff phases (sustained
+    /// contact).
+    Radau5,
 }
 
 impl Method {
     /// All methods, in a fixed order (for sweeps in tests and benches).
-    pub const ALL: [Method; 2] = [Method::Dopri5, Method::Dop853];
+    pub const ALL: [Method; 3] = [Method::Dopri5, Method::Dop853, Method::Radau5];
 
     /// Name as accepted by [`FromStr`].
     #[must_use]
@@ -38,6 +44,7 @@ impl Method {
         match self {
             Method::Dopri5 => "dopri5",
             Method::Dop853 => "dop853",
+            Method::Radau5 => "radau5",
         }
     }
 
@@ -45,17 +52,18 @@ impl Method {
     #[must_use]
     pub fn order(self) -> u32 {
         match self {
-            Method::Dopri5 => 5,
+            Method::Dopri5 | Method::Radau5 => 5,
             Method::Dop853 => 8,
         }
     }
 
-    /// Order of the continuous extension (dense output): 4 or 7.
+    /// Order of the continuous extension (dense output): 4, 7, or 3 (Radau5).
     #[must_use]
     pub fn dense_order(self) -> u32 {
         match self {
             Method::Dopri5 => 4,
             Method::Dop853 => 7,
+            Method::Radau5 => 3,
         }
     }
 
@@ -65,7 +73,7 @@ impl Method {
     pub fn default_beta(self) -> f64 {
         match self {
             Method::Dopri5 => 0.04,
-            Method::Dop853 => 0.0,
+            Method::Dop853 | Method::Radau5 => 0.0,
         }
     }
 
@@ -79,6 +87,9 @@ impl Method {
             Method::Dop853 => {
                 "Hairer's DOP853 8(5,3), explicit, 12 RHS calls per step, 7th-order dense output; tight tolerances (default)"
             }
+            Method::Radau5 => {
+                "Radau IIA order 5 (RADAU5), implicit, L-stable, Newton with a finite-difference Jacobian, cubic dense output; stiff contact phases"
+            }
         }
     }
 
@@ -88,6 +99,7 @@ impl Method {
     pub fn is_implicit(self) -> bool {
         match self {
             Method::Dopri5 | Method::Dop853 => false,
+            Method::Radau5 => true,
         }
     }
 
@@ -187,6 +199,8 @@ pub struct SolverOptions {
     pub fixed_step: Option<f64>,
     /// Settings of the explicit Runge–Kutta pairs.
     pub explicit_rk: ExplicitRkSettings,
+    /// Settings of Radau5 (Newton iteration, Jacobian reuse, controller).
+    pub radau5: crate::solve::radau5::Radau5Settings,
 }
 
 impl Default for SolverOptions {
@@ -216,6 +230,7 @@ impl Default for SolverOptions {
             max_wall: None,
             fixed_step: None,
             explicit_rk: ExplicitRkSettings::default(),
+            radau5: crate::solve::radau5::Radau5Settings::default(),
         }
     }
 }
@@ -294,6 +309,13 @@ impl SolverOptions {
     #[must_use]
     pub fn event_tol(mut self, event_tol: f64) -> Self {
         self.event_tol = event_tol;
+        self
+    }
+
+    /// Sets the settings of Radau5.
+    #[must_use]
+    pub fn radau5(mut self, settings: crate::solve::radau5::Radau5Settings) -> Self {
+        self.radau5 = settings;
         self
     }
 
@@ -412,6 +434,7 @@ impl SolverOptions {
                 format!("expected a finite step size > 0 s, got {h}"),
             ));
         }
+        self.radau5.validate_knobs()?;
         Ok(())
     }
 
@@ -535,7 +558,7 @@ mod tests {
         assert_eq!(
             err,
             Err(
-                "invalid solver option `method`: expected \"dopri5\" or \"dop853\", got \"rk4\""
+                "invalid solver option `method`: expected \"dopri5\", \"dop853\" or \"radau5\", got \"rk4\""
                     .into()
             )
         );

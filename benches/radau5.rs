@@ -1,0 +1,73 @@
+//! Radau5 against DOP853 on the reference clearance case (models/farahan2016.toml, 250 rpm,
+//! 2 crank turns), each at the loosest rtol of the ladder 1e-6 … 1e-10 whose largest angle error
+//! is below 1e-8 rad (measured with `cargo run --release --example radau5_farahan`):
+//! DOP853 rtol 1e-9 (reduced; DAE: 1e-10 gives 1.5e-8, the nearest), Radau5 rtol 1e-10 with
+//! Hairer's defaults and with the tuned settings (theta_jac 0.1, newton_tol 0.1).
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs, ReducedLagrangian};
+use linkdyn::solve::radau5::Radau5Settings;
+use linkdyn::solve::{Method, Recorder, SolverOptions, integrate};
+
+fn run<F: Formulation + Outputs + Clone>(f: &F, options: &SolverOptions) -> usize {
+    let mut f = f.clone();
+    let y0 = f.initial_state();
+    let mut rec = Recorder::new(&f);
+    match integrate(&mut f, 0.0, &y0, 0.48, 1e-3, options, &mut rec) {
+        Ok(_) => rec.events.len(),
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn options(method: Method, rtol: f64, settings: Radau5Settings) -> SolverOptions {
+    SolverOptions::default()
+        .method(method)
+        .rtol(rtol)
+        .atol(rtol * 1e-3)
+        .radau5(settings)
+        .build()
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn tuned() -> Radau5Settings {
+    let mut s = Radau5Settings::default().theta_jac(0.1);
+    s.newton_tol = Some(0.1);
+    s
+}
+
+fn farahan(c: &mut Criterion) {
+    let model = linkdyn::model::load("models/farahan2016.toml".as_ref(), &[])
+        .unwrap_or_else(|e| panic!("{e}"));
+    let dae = Dae::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let reduced = ReducedLagrangian::new(&model).unwrap_or_else(|e| panic!("{e}"));
+    let mut group = c.benchmark_group("farahan2016_250rpm_2revs_error_1e-8");
+    group.sample_size(20);
+    let cases = [
+        (
+            "dop853_rtol1e-9",
+            options(Method::Dop853, 1e-9, Radau5Settings::default()),
+        ),
+        (
+            "dop853_rtol1e-10",
+            options(Method::Dop853, 1e-10, Radau5Settings::default()),
+        ),
+        (
+            "radau5_rtol1e-10",
+            options(Method::Radau5, 1e-10, Radau5Settings::default()),
+        ),
+        (
+            "radau5_tuned_rtol1e-10",
+            options(Method::Radau5, 1e-10, tuned()),
+        ),
+    ];
+    for (name, opts) in &cases {
+        group.bench_function(format!("reduced_{name}"), |b| {
+            b.iter(|| run(&reduced, opts))
+        });
+        group.bench_function(format!("dae_{name}"), |b| b.iter(|| run(&dae, opts)));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, farahan);
+criterion_main!(benches);

@@ -1,0 +1,492 @@
+//! Dense LU factorisations with partial pivoting of the two Newton matrices of Radau IIA:
+//! the real E₁ = γ̂/h·I − J and the complex E₂ = (α̂ + iβ̂)/h·I − J (n×n, row-major).
+//!
+//! Hand-written for the sizes met here (n = 4 to ~40): the buffers are allocated once, and
+//! factorising or solving allocates nothing. Complex numbers are kept as separate real and
+//! imaginary arrays.
+//!
+//! **Decoupled components.** A component j whose Jacobian column is zero off the diagonal
+//! (nothing else depends on it: an energy integral, a stored impact velocity while free) is
+//! factored apart: the matrix is block lower-triangular with those components last, so the
+//! other components are solved from their own block alone and each decoupled one by a scalar
+//! division afterwards. The arithmetic on the coupled components is then exactly the same
+//! whether bookkeeping states are present or not (`tests/energy_bookkeeping_leaves_trajectory.rs`).
+
+/// The matrix became (numerically) singular: a zero pivot in column `column`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Singular {
+    /// Column of the zero pivot.
+    pub column: usize,
+}
+
+/// Which components are coupled (`main`, in order) and which decoupled (`trailing`).
+#[derive(Debug, Clone)]
+pub(super) struct Partition {
+    n: usize,
+    main: Vec<usize>,
+    trailing: Vec<usize>,
+}
+
+impl Partition {
+    /// All n components coupled.
+    pub(super) fn new(n: usize) -> Self {
+        Partition {
+            n,
+            main: (0..n).collect(),
+            trailing: Vec::with_capacity(n),
+        }
+    }
+
+    /// Sorts the components of the Jacobian J (row-major, n²) into coupled and decoupled
+    /// (column zero off the diagonal).
+    pub(super) fn update(&mut self, jac: &[f64]) {
+        let n = self.n;
+        self.main.clear();
+        self.trailing.clear();
+        for j in 0..n {
+            let decoupled = (0..n).all(|i| i == j || jac[i * n + j] == 0.0);
+            if decoupled {
+                self.trailing.push(j);
+            } else {
+                self.main.push(j);
+            }
+        }
+    }
+}
+
+/// LU factors of s·I − J for real s, with row pivots (coupled block), and the rows of the
+/// decoupled components.
+#[derive(Debug, Clone)]
+pub(super) struct RealLu {
+    n: usize,
+    m: usize,
+    lu: Vec<f64>,
+    piv: Vec<usize>,
+    s: f64,
+    part: Partition,
+    /// J (copied at factorisation) for the decoupled rows.
+    jac: Vec<f64>,
+    tmp: Vec<f64>,
+}
+
+impl RealLu {
+    /// Buffers for n×n matrices.
+    pub(super) fn new(n: usize) -> Self {
+        RealLu {
+            n,
+            m: n,
+            lu: vec![0.0; n * n],
+            piv: vec![0; n],
+            s: 0.0,
+            part: Partition::new(n),
+            jac: vec![0.0; n * n],
+            tmp: vec![0.0; n],
+        }
+    }
+
+    /// Factorises s·I − J (J row-major, n²) with the partition `part` of J's components.
+    pub(super) fn factor(&mut self, s: f64, jac: &[f64], part: &Partition) -> Result<(), Singular> {
+        let n_all = self.n;
+        debug_assert_eq!(
+            jac.len(),
+            n_all * n_all,
+            "Jacobian buffer is allocated with n²"
+        );
+        self.part.main.clone_from(&part.main);
+        self.part.trailing.clone_from(&part.trailing);
+        self.jac.copy_from_slice(jac);
+        self.s = s;
+        let n = part.main.len();
+        self.m = n;
+        for (a, &i) in part.main.iter().enumerate() {
+            for (b, &j) in part.main.iter().enumerate() {
+                self.lu[a * n + b] = -jac[i * n_all + j];
+            }
+            self.lu[a * n + a] += s;
+        }
+        for &j in &part.trailing {
+            if s - jac[j * n_all + j] == 0.0 {
+                return Err(Singular { column: j });
+            }
+        }
+        let a = &mut self.lu;
+        for k in 0..n {
+            let mut p = k;
+            let mut best = a[k * n + k].abs();
+            for i in k + 1..n {
+                let v = a[i * n + k].abs();
+                if v > best {
+                    best = v;
+                    p = i;
+                }
+            }
+            self.piv[k] = p;
+            // A NaN pivot (from a NaN Jacobian) fails this test too.
+            if best.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                return Err(Singular { column: k });
+            }
+            if p != k {
+                for j in 0..n {
+                    a.swap(k * n + j, p * n + j);
+                }
+            }
+            let inv = 1.0 / a[k * n + k];
+            for i in k + 1..n {
+                let m = a[i * n + k] * inv;
+                a[i * n + k] = m;
+                if m != 0.0 {
+                    for j in k + 1..n {
+                        a[i * n + j] -= m * a[k * n + j];
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves (s·I − J) x = b in place.
+    pub(super) fn solve(&mut self, b: &mut [f64]) {
+        let n_all = self.n;
+        debug_assert_eq!(b.len(), n_all, "right-hand sides are allocated with n");
+        for (a, &i) in self.part.main.iter().enumerate() {
+            self.tmp[a] = b[i];
+        }
+        Self::solve_block(self.m, &self.lu, &self.piv, &mut self.tmp[..self.m]);
+        for &j in &self.part.trailing {
+            let row = &self.jac[j * n_all..(j + 1) * n_all];
+            let mut sum = b[j];
+            for (a, &i) in self.part.main.iter().enumerate() {
+                sum += row[i] * self.tmp[a];
+            }
+            b[j] = sum / (self.s - row[j]);
+        }
+        for (a, &i) in self.part.main.iter().enumerate() {
+            b[i] = self.tmp[a];
+        }
+    }
+
+    /// Solves the factored m×m block in place.
+    fn solve_block(n: usize, a: &[f64], piv: &[usize], b: &mut [f64]) {
+        // Whole rows (multipliers included) were swapped while factorising, so all row
+        // interchanges are applied to b first (as LAPACK's getrs does).
+        for k in 0..n {
+            let p = piv[k];
+            if p != k {
+                b.swap(k, p);
+            }
+        }
+        for k in 0..n {
+            let bk = b[k];
+            for i in k + 1..n {
+                b[i] -= a[i * n + k] * bk;
+            }
+        }
+        for k in (0..n).rev() {
+            let mut s = b[k];
+            for j in k + 1..n {
+                s -= a[k * n + j] * b[j];
+            }
+            b[k] = s / a[k * n + k];
+        }
+    }
+}
+
+/// LU factors of (α + iβ)·I − J for real J, with row pivots.
+#[derive(Debug, Clone)]
+pub(super) struct ComplexLu {
+    n: usize,
+    re: Vec<f64>,
+    im: Vec<f64>,
+    piv: Vec<usize>,
+    m: usize,
+    alpha: f64,
+    beta: f64,
+    part: Partition,
+    jac: Vec<f64>,
+    tmp_re: Vec<f64>,
+    tmp_im: Vec<f64>,
+}
+
+impl ComplexLu {
+    /// Buffers for n×n matrices.
+    pub(super) fn new(n: usize) -> Self {
+        ComplexLu {
+            n,
+            re: vec![0.0; n * n],
+            im: vec![0.0; n * n],
+            piv: vec![0; n],
+            m: n,
+            alpha: 0.0,
+            beta: 0.0,
+            part: Partition::new(n),
+            jac: vec![0.0; n * n],
+            tmp_re: vec![0.0; n],
+            tmp_im: vec![0.0; n],
+        }
+    }
+
+    /// Factorises (α + iβ)·I − J (J row-major, n²) with the partition `part`.
+    pub(super) fn factor(
+        &mut self,
+        alpha: f64,
+        beta: f64,
+        jac: &[f64],
+        part: &Partition,
+    ) -> Result<(), Singular> {
+        let n_all = self.n;
+        debug_assert_eq!(
+            jac.len(),
+            n_all * n_all,
+            "Jacobian buffer is allocated with n²"
+        );
+        self.part.main.clone_from(&part.main);
+        self.part.trailing.clone_from(&part.trailing);
+        self.jac.copy_from_slice(jac);
+        (self.alpha, self.beta) = (alpha, beta);
+        let n = part.main.len();
+        self.m = n;
+        for (a, &i) in part.main.iter().enumerate() {
+            for (b, &j) in part.main.iter().enumerate() {
+                self.re[a * n + b] = -jac[i * n_all + j];
+                self.im[a * n + b] = 0.0;
+            }
+            self.re[a * n + a] += alpha;
+            self.im[a * n + a] = beta;
+        }
+        if beta == 0.0 {
+            for &j in &part.trailing {
+                if alpha - jac[j * n_all + j] == 0.0 {
+                    return Err(Singular { column: j });
+                }
+            }
+        }
+        let (re, im) = (&mut self.re, &mut self.im);
+        for k in 0..n {
+            let mut p = k;
+            let mut best = re[k * n + k].abs() + im[k * n + k].abs();
+            for i in k + 1..n {
+                let v = re[i * n + k].abs() + im[i * n + k].abs();
+                if v > best {
+                    best = v;
+                    p = i;
+                }
+            }
+            self.piv[k] = p;
+            if best.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                return Err(Singular { column: k });
+            }
+            if p != k {
+                for j in 0..n {
+                    re.swap(k * n + j, p * n + j);
+                    im.swap(k * n + j, p * n + j);
+                }
+            }
+            let (pr, pi) = (re[k * n + k], im[k * n + k]);
+            let d = pr * pr + pi * pi;
+            let (inv_r, inv_i) = (pr / d, -pi / d);
+            for i in k + 1..n {
+                let (ar, ai) = (re[i * n + k], im[i * n + k]);
+                let mr = ar * inv_r - ai * inv_i;
+                let mi = ar * inv_i + ai * inv_r;
+                re[i * n + k] = mr;
+                im[i * n + k] = mi;
+                if mr != 0.0 || mi != 0.0 {
+                    for j in k + 1..n {
+                        let (br, bi) = (re[k * n + j], im[k * n + j]);
+                        re[i * n + j] -= mr * br - mi * bi;
+                        im[i * n + j] -= mr * bi + mi * br;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves ((α + iβ)·I − J)(x_re + i x_im) = b_re + i b_im in place.
+    pub(super) fn solve(&mut self, b_re: &mut [f64], b_im: &mut [f64]) {
+        let n_all = self.n;
+        debug_assert!(
+            b_re.len() == n_all && b_im.len() == n_all,
+            "allocated with n"
+        );
+        for (a, &i) in self.part.main.iter().enumerate() {
+            self.tmp_re[a] = b_re[i];
+            self.tmp_im[a] = b_im[i];
+        }
+        let m = self.m;
+        Self::solve_block(
+            m,
+            (&self.re, &self.im),
+            &self.piv,
+            (&mut self.tmp_re[..m], &mut self.tmp_im[..m]),
+        );
+        for &j in &self.part.trailing {
+            let row = &self.jac[j * n_all..(j + 1) * n_all];
+            let (mut sr, mut si) = (b_re[j], b_im[j]);
+            for (a, &i) in self.part.main.iter().enumerate() {
+                sr += row[i] * self.tmp_re[a];
+                si += row[i] * self.tmp_im[a];
+            }
+            let (pr, pi) = (self.alpha - row[j], self.beta);
+            let d = pr * pr + pi * pi;
+            b_re[j] = (sr * pr + si * pi) / d;
+            b_im[j] = (si * pr - sr * pi) / d;
+        }
+        for (a, &i) in self.part.main.iter().enumerate() {
+            b_re[i] = self.tmp_re[a];
+            b_im[i] = self.tmp_im[a];
+        }
+    }
+
+    /// Solves the factored m×m block in place.
+    fn solve_block(
+        n: usize,
+        (re, im): (&[f64], &[f64]),
+        piv: &[usize],
+        (b_re, b_im): (&mut [f64], &mut [f64]),
+    ) {
+        for k in 0..n {
+            let p = piv[k];
+            if p != k {
+                b_re.swap(k, p);
+                b_im.swap(k, p);
+            }
+        }
+        for k in 0..n {
+            let (br, bi) = (b_re[k], b_im[k]);
+            for i in k + 1..n {
+                let (mr, mi) = (re[i * n + k], im[i * n + k]);
+                b_re[i] -= mr * br - mi * bi;
+                b_im[i] -= mr * bi + mi * br;
+            }
+        }
+        for k in (0..n).rev() {
+            let (mut sr, mut si) = (b_re[k], b_im[k]);
+            for j in k + 1..n {
+                let (ar, ai) = (re[k * n + j], im[k * n + j]);
+                sr -= ar * b_re[j] - ai * b_im[j];
+                si -= ar * b_im[j] + ai * b_re[j];
+            }
+            let (pr, pi) = (re[k * n + k], im[k * n + k]);
+            let d = pr * pr + pi * pi;
+            b_re[k] = (sr * pr + si * pi) / d;
+            b_im[k] = (si * pr - sr * pi) / d;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 4×4 Jacobian that needs pivoting (zero leading entry of s·I − J for s = 2).
+    const JAC: [f64; 16] = [
+        2.0, 1.0, -3.0, 0.5, //
+        4.0, -1.0, 0.0, 2.0, //
+        -1.0, 2.5, 1.0, 1.0, //
+        0.0, 3.0, -2.0, 7.0,
+    ];
+
+    #[test]
+    fn real_solve_inverts_the_matrix() -> Result<(), Singular> {
+        let s = 2.0;
+        let mut lu = RealLu::new(4);
+        lu.factor(s, &JAC, &Partition::new(4))?;
+        let x_true = [1.0, -2.0, 0.5, 3.0];
+        let mut b = [0.0; 4];
+        for i in 0..4 {
+            b[i] = s * x_true[i] - (0..4).map(|j| JAC[i * 4 + j] * x_true[j]).sum::<f64>();
+        }
+        lu.solve(&mut b);
+        for (x, t) in b.iter().zip(x_true) {
+            // Condition number of this matrix is ~30: a few hundred ulps at most.
+            assert!((x - t).abs() < 1e-13, "x = {x} vs {t}");
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn complex_solve_inverts_the_matrix() -> Result<(), Singular> {
+        let (alpha, beta) = (2.0, 0.7);
+        let mut lu = ComplexLu::new(4);
+        lu.factor(alpha, beta, &JAC, &Partition::new(4))?;
+        let (xr, xi) = ([1.0, -2.0, 0.5, 3.0], [0.25, 1.0, -1.5, 0.0]);
+        let (mut br, mut bi) = ([0.0; 4], [0.0; 4]);
+        for i in 0..4 {
+            let jr: f64 = (0..4).map(|j| JAC[i * 4 + j] * xr[j]).sum();
+            let ji: f64 = (0..4).map(|j| JAC[i * 4 + j] * xi[j]).sum();
+            br[i] = alpha * xr[i] - beta * xi[i] - jr;
+            bi[i] = alpha * xi[i] + beta * xr[i] - ji;
+        }
+        lu.solve(&mut br, &mut bi);
+        for i in 0..4 {
+            assert!(
+                (br[i] - xr[i]).abs() < 1e-13 && (bi[i] - xi[i]).abs() < 1e-13,
+                "component {i}: {} + {}i vs {} + {}i",
+                br[i],
+                bi[i],
+                xr[i],
+                xi[i]
+            );
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn decoupled_components_are_solved_apart() -> Result<(), Singular> {
+        // Component 1 is read by nobody (column 1 zero off the diagonal), like an energy
+        // integral: it is factored apart, and the solution must equal the full solve.
+        let jac = [2.0, 0.0, -1.0, 3.0, 0.5, 4.0, 1.0, 0.0, -2.0];
+        let mut part = Partition::new(3);
+        part.update(&jac);
+        assert_eq!(
+            (part.main.clone(), part.trailing.clone()),
+            (vec![0, 2], vec![1])
+        );
+        let (mut full, mut split) = (RealLu::new(3), RealLu::new(3));
+        full.factor(3.0, &jac, &Partition::new(3))?;
+        split.factor(3.0, &jac, &part)?;
+        let (mut a, mut b) = ([1.0, -2.0, 0.5], [1.0, -2.0, 0.5]);
+        full.solve(&mut a);
+        split.solve(&mut b);
+        let (mut cf, mut cs) = (ComplexLu::new(3), ComplexLu::new(3));
+        cf.factor(3.0, 1.5, &jac, &Partition::new(3))?;
+        cs.factor(3.0, 1.5, &jac, &part)?;
+        let (mut ar, mut ai) = ([1.0, -2.0, 0.5], [0.3, 0.0, -1.0]);
+        let (mut br, mut bi) = (ar, ai);
+        cf.solve(&mut ar, &mut ai);
+        cs.solve(&mut br, &mut bi);
+        for k in 0..3 {
+            // Two elimination orders of a well-conditioned 3×3 system: a few ulps.
+            assert!(
+                (a[k] - b[k]).abs() < 1e-15,
+                "real x{k}: {} vs {}",
+                a[k],
+                b[k]
+            );
+            assert!(
+                (ar[k] - br[k]).abs() < 1e-15 && (ai[k] - bi[k]).abs() < 1e-15,
+                "complex x{k}: {} + {}i vs {} + {}i",
+                ar[k],
+                ai[k],
+                br[k],
+                bi[k]
+            );
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn singular_matrix_is_reported() {
+        // s·I − J = 0 for J = I, s = 1.
+        let jac = [1.0, 0.0, 0.0, 1.0];
+        assert_eq!(
+            RealLu::new(2).factor(1.0, &jac, &Partition::new(2)),
+            Err(Singular { column: 0 })
+        );
+        assert_eq!(
+            ComplexLu::new(2).factor(1.0, 0.0, &jac, &Partition::new(2)),
+            Err(Singular { column: 0 })
+        );
+    }
+}

@@ -1,0 +1,215 @@
+//! [`Radau5Settings`] (the knobs of the Newton iteration and step control that
+//! [`SolverOptions`](crate::solve::SolverOptions) does not have) and [`Radau5Stats`].
+
+use serde::Serialize;
+
+use crate::solve::SolveError;
+
+/// Settings specific to [`Radau5`](super::Radau5), with Hairer's defaults from `radau5.f`
+/// (used with error control; fixed-step mode iterates Newton to rounding level instead).
+///
+/// | setting | default | Hairer's name |
+/// |---|---|---|
+/// | `max_newton_iter` | 7 | `NIT` |
+/// | `theta_jac` | 0.001 | `THET` |
+/// | `safety` | 0.9 | `SAFE` |
+/// | `keep_h_range` | (1.0, 1.2) | `QUOT1`, `QUOT2` |
+/// | `h_ratio_range` | (0.2, 8.0) | `1/FACL`, `1/FACR` |
+/// | `predictive` | true (Gustafsson) | `PRED` |
+/// | `newton_tol` | `None`: max(10u/rtol', min(0.03, √rtol')) | `FNEWT` |
+/// | `hairer_tolerances` | true | (the transform in `RADAU5`) |
+/// | `error_mask` | `None`: every component is error-controlled | — |
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Radau5Settings {
+    /// Largest number of simplified Newton iterations per step attempt.
+    pub max_newton_iter: usize,
+    /// The Jacobian is re-evaluated after an accepted step unless the Newton contraction rate θ
+    /// of that step was ≤ `theta_jac`. Hairer advises 0.1 when Jacobians are expensive
+    /// relative to RHS calls (forward differences cost n RHS calls).
+    pub theta_jac: f64,
+    /// Safety factor of the step-size prediction.
+    pub safety: f64,
+    /// If the proposed h_new/h lies in this range (and θ ≤ `theta_jac`), h is kept so that the
+    /// LU factors can be reused.
+    pub keep_h_range: (f64, f64),
+    /// Bounds of h_new/h after a step.
+    pub h_ratio_range: (f64, f64),
+    /// Gustafsson's predictive step-size controller (else the classical one).
+    pub predictive: bool,
+    /// Stopping tolerance κ·tol of the Newton iteration, relative to the error scale;
+    /// `None` for Hairer's default.
+    pub newton_tol: Option<f64>,
+    /// Hairer's tolerance transform: the code works with rtol' = 0.1·rtol^{2/3} and
+    /// atol' = atol·rtol'/rtol, so that the global error is roughly proportional to rtol
+    /// (the embedded estimate is of order 3 only).
+    pub hairer_tolerances: bool,
+    /// `Some(mask)`: only components i with `mask[i] == true` enter the error and Newton
+    /// norms (bookkeeping states such as accumulated work or a stored impact velocity are
+    /// left out). Length n.
+    pub error_mask: Option<Vec<bool>>,
+}
+
+impl Default for Radau5Settings {
+    fn default() -> Self {
+        Radau5Settings {
+            max_newton_iter: 7,
+            theta_jac: 0.001,
+            safety: 0.9,
+            keep_h_range: (1.0, 1.2),
+            h_ratio_range: (0.2, 8.0),
+            predictive: true,
+            newton_tol: None,
+            hairer_tolerances: true,
+            error_mask: None,
+        }
+    }
+}
+
+impl Radau5Settings {
+    /// Sets `theta_jac`.
+    #[must_use]
+    pub fn theta_jac(mut self, theta: f64) -> Self {
+        self.theta_jac = theta;
+        self
+    }
+
+    /// Sets `max_newton_iter`.
+    #[must_use]
+    pub fn max_newton_iter(mut self, nit: usize) -> Self {
+        self.max_newton_iter = nit;
+        self
+    }
+
+    /// Sets the error mask (`true` = error-controlled).
+    #[must_use]
+    pub fn error_mask(mut self, mask: Vec<bool>) -> Self {
+        self.error_mask = Some(mask);
+        self
+    }
+
+    /// Switches Gustafsson's predictive controller on or off.
+    #[must_use]
+    pub fn predictive(mut self, on: bool) -> Self {
+        self.predictive = on;
+        self
+    }
+
+    /// Switches Hairer's tolerance transform on or off.
+    #[must_use]
+    pub fn hairer_tolerances(mut self, on: bool) -> Self {
+        self.hairer_tolerances = on;
+        self
+    }
+
+    /// Checks every setting for a system of `n` states; the error names the first bad one.
+    pub fn validate(&self, n: usize) -> Result<(), SolveError> {
+        self.validate_knobs()?;
+        if let Some(mask) = &self.error_mask
+            && mask.len() != n
+        {
+            return Err(SolveError::StateLength {
+                what: "error mask",
+                expected: n,
+                got: mask.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Checks every setting but the error mask (whose length depends on the formulation).
+    pub fn validate_knobs(&self) -> Result<(), SolveError> {
+        if self.max_newton_iter == 0 {
+            return Err(SolveError::invalid(
+                "max_newton_iter",
+                "expected at least 1, got 0",
+            ));
+        }
+        if !(self.theta_jac.is_finite() && self.theta_jac < 1.0) {
+            return Err(SolveError::invalid(
+                "theta_jac",
+                format!("expected a number < 1, got {}", self.theta_jac),
+            ));
+        }
+        if !(self.safety > 0.001 && self.safety < 1.0) {
+            return Err(SolveError::invalid(
+                "safety",
+                format!("expected 0.001 < safety < 1, got {}", self.safety),
+            ));
+        }
+        let (q1, q2) = self.keep_h_range;
+        if !(q1 <= 1.0 && q2 >= 1.0) {
+            return Err(SolveError::invalid(
+                "keep_h_range",
+                format!("expected (≤ 1, ≥ 1), got ({q1}, {q2})"),
+            ));
+        }
+        let (lo, hi) = self.h_ratio_range;
+        if !(lo > 0.0 && lo <= 1.0 && hi >= 1.0 && hi.is_finite()) {
+            return Err(SolveError::invalid(
+                "h_ratio_range",
+                format!("expected (0 < lo ≤ 1, finite hi ≥ 1), got ({lo}, {hi})"),
+            ));
+        }
+        if let Some(tol) = self.newton_tol
+            && !(tol.is_finite() && tol > 0.0)
+        {
+            return Err(SolveError::invalid(
+                "newton_tol",
+                format!("expected a finite number > 0, got {tol}"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Counters of a [`Radau5`](super::Radau5) run.
+///
+/// Every step attempt is either accepted (`steps`) or rejected (`rejected`), and each
+/// rejection has one cause: `rejected = error_test_failures + newton_failures +
+/// recovered_rejections` (checked in `tests/radau5_stiff_problems.rs`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Radau5Stats {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected step attempts, all causes.
+    pub rejected: u64,
+    /// Calls of [`Formulation::rhs`](crate::formulation::Formulation::rhs), all included
+    /// (those of finite-difference Jacobians too).
+    pub rhs_evals: u64,
+    /// Of `rhs_evals`, those made by [`Formulation::jacobian`](crate::formulation::Formulation::jacobian).
+    pub jacobian_rhs_evals: u64,
+    /// Jacobian evaluations.
+    pub jacobian_evals: u64,
+    /// LU factorisations (each one real n×n and one complex n×n).
+    pub lu_decompositions: u64,
+    /// Simplified Newton iterations (each: 3 RHS calls, one real and one complex solve).
+    pub newton_iterations: u64,
+    /// Step attempts rejected because Newton diverged, was predicted too slow, used up
+    /// `max_newton_iter`, or an iteration matrix was singular.
+    pub newton_failures: u64,
+    /// Step attempts rejected by the error test.
+    pub error_test_failures: u64,
+    /// Step attempts rejected because the RHS failed recoverably (a trial stage overshooting
+    /// into a contact, [`FormulationError::is_recoverable`](crate::formulation::FormulationError::is_recoverable)).
+    pub recovered_rejections: u64,
+    /// Of `newton_failures`, those where an iteration matrix was singular.
+    pub singular_matrices: u64,
+    /// Smallest accepted step size (s); 0 if no step.
+    pub h_min_used: f64,
+    /// Largest accepted step size (s); 0 if no step.
+    pub h_max_used: f64,
+}
+
+impl Radau5Stats {
+    /// Records an accepted step of size h (s).
+    pub(crate) fn record_step(&mut self, h: f64) {
+        if self.steps == 0 {
+            self.h_min_used = h;
+            self.h_max_used = h;
+        } else {
+            self.h_min_used = self.h_min_used.min(h);
+            self.h_max_used = self.h_max_used.max(h);
+        }
+        self.steps += 1;
+    }
+}
