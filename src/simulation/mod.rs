@@ -27,6 +27,7 @@
 //! # Ok::<(), linkdyn::Error>(())
 //! ```
 
+pub mod analyses;
 mod options;
 mod provenance;
 mod sink;
