@@ -6,11 +6,17 @@
 //! SIGHUP during `run`: no result file is left behind).
 
 mod args;
+mod bifurcation;
 mod check;
 mod compare;
 mod interrupt;
+mod lyapunov;
+mod merge;
+mod phase;
+mod poincare;
 mod progress;
 mod run;
+mod spectrum;
 
 use clap::{Parser, Subcommand};
 use linkdyn::Error;
@@ -36,6 +42,18 @@ enum Command {
     Run(run::RunArgs),
     /// Run the DAE and the reduced formulation with the same settings; print their differences.
     Compare(compare::CompareArgs),
+    /// Poincaré section once per driver turn (CSV `turn,t,<cols>`) and its period verdict.
+    Poincare(poincare::PoincareArgs),
+    /// Bifurcation diagram: sweep a model field, record a column once per turn at each value.
+    Bifurcation(bifurcation::BifurcationArgs),
+    /// Join the shard files of a bifurcation sweep, checking no point is missing or doubled.
+    Merge(merge::MergeArgs),
+    /// Amplitude spectrum of an output column (CSV `frequency_hz,amplitude`) and its peaks.
+    Spectrum(spectrum::SpectrumArgs),
+    /// Phase-portrait data of an output column (CSV `t,value,rate`).
+    Phase(phase::PhaseArgs),
+    /// Largest Lyapunov exponent (CSV `t,lambda` of its convergence), printed with its error.
+    Lyapunov(lyapunov::LyapunovArgs),
 }
 
 /// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
@@ -174,6 +192,12 @@ pub fn main() -> ExitCode {
         Command::Check(args) => check::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Poincare(args) => poincare::run(&args),
+        Command::Bifurcation(args) => bifurcation::run(&args),
+        Command::Merge(args) => merge::run(&args),
+        Command::Spectrum(args) => spectrum::run(&args),
+        Command::Phase(args) => phase::run(&args),
+        Command::Lyapunov(args) => lyapunov::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

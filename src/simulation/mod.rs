@@ -27,6 +27,7 @@
 //! # Ok::<(), linkdyn::Error>(())
 //! ```
 
+pub mod analyses;
 pub mod impacts;
 mod options;
 mod provenance;
