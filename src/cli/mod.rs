@@ -9,6 +9,7 @@ mod args;
 mod check;
 mod compare;
 mod interrupt;
+mod plot;
 mod progress;
 mod run;
 
@@ -36,6 +37,9 @@ enum Command {
     Run(run::RunArgs),
     /// Run the DAE and the reduced formulation with the same settings; print their differences.
     Compare(compare::CompareArgs),
+    /// Draw a figure (PNG or SVG) from result CSV files: series, orbit, poincare, bifurcation,
+    /// spectrum, phase, lyapunov.
+    Plot(plot::PlotArgs),
 }
 
 /// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
@@ -174,6 +178,7 @@ pub fn main() -> ExitCode {
         Command::Check(args) => check::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Plot(args) => plot::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
