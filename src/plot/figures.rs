@@ -24,30 +24,52 @@ const CIRCLE_POINTS: usize = 361;
 /// Most driving-frequency multiples marked on a spectrum (beyond, the marks are a grey wash).
 const MAX_MARKS: usize = 40;
 
+/// Lengths (unit m) whose largest magnitude is below this are drawn in mm: clearance-sized
+/// numbers (0.0004 m) read better as 0.4 mm.
+const MM_BELOW_M: f64 = 1e-2;
+
 fn points(x: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
     x.iter().copied().zip(y.iter().copied()).collect()
+}
+
+fn scaled_points(x: &[f64], fx: f64, y: &[f64], fy: f64) -> Vec<(f64, f64)> {
+    x.iter().zip(y).map(|(a, b)| (a * fx, b * fy)).collect()
+}
+
+/// The unit an axis shows for a column in SI `unit` and the factor from the file's SI values to it: mm
+/// (× 1000) for lengths whose finite values all lie within ±[`MM_BELOW_M`] m, otherwise the
+/// column's own unit (× 1).
+fn display_unit<'a>(
+    unit: Option<&'static str>,
+    data: impl IntoIterator<Item = &'a [f64]>,
+) -> (f64, Option<&'static str>) {
+    if unit != Some("m") {
+        return (1.0, unit);
+    }
+    let max = data
+        .into_iter()
+        .flatten()
+        .filter(|v| v.is_finite())
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    if max < MM_BELOW_M {
+        (MM_PER_M, Some("mm"))
+    } else {
+        (1.0, unit)
+    }
+}
+
+/// `name (unit)`, or the bare name without a unit.
+fn label_with(name: &str, unit: Option<&str>) -> String {
+    match unit {
+        Some(u) => format!("{name} ({u})"),
+        None => name.to_string(),
+    }
 }
 
 fn no_rows(t: &Table) -> PlotError {
     PlotError::NoData {
         path: t.path.display().to_string(),
         reason: "no data rows".into(),
-    }
-}
-
-/// The y-axis label of several columns: `B.ex, B.ey (m)` when they share a unit, otherwise
-/// each with its own.
-fn joint_label(columns: &[String]) -> String {
-    let units: Vec<Option<&str>> = columns.iter().map(|c| unit_of(c)).collect();
-    match units.first() {
-        Some(Some(u)) if units.iter().all(|v| v == &Some(*u)) => {
-            format!("{} ({u})", columns.join(", "))
-        }
-        _ => columns
-            .iter()
-            .map(|c| axis_label(c))
-            .collect::<Vec<_>>()
-            .join(", "),
     }
 }
 
@@ -68,6 +90,34 @@ pub fn series(
     let mut tables = vec![run];
     tables.extend(compare);
     let several = columns.len() > 1 || compare.is_some();
+    // One display unit for all lines, so that they share the axis.
+    // Lengths share one display unit (so that mm and m never share an axis unnoticed); every
+    // other column keeps its own.
+    let mut lengths = Vec::new();
+    for name in columns.iter().filter(|c| unit_of(c) == Some("m")) {
+        for t in &tables {
+            lengths.push(t.column(name)?);
+        }
+    }
+    let length_unit = display_unit(Some("m"), lengths);
+    let units: Vec<(f64, Option<&str>)> = columns
+        .iter()
+        .map(|c| match unit_of(c) {
+            Some("m") => length_unit,
+            u => (1.0, u),
+        })
+        .collect();
+    let y_label = match units.first() {
+        Some(&(_, Some(u))) if units.iter().all(|v| v.1 == Some(u)) => {
+            format!("{} ({u})", columns.join(", "))
+        }
+        _ => columns
+            .iter()
+            .zip(&units)
+            .map(|(c, u)| label_with(c, u.1))
+            .collect::<Vec<_>>()
+            .join(", "),
+    };
     let mut fig = Figure::new(
         match compare {
             Some(c) => format!(
@@ -79,7 +129,7 @@ pub fn series(
             None => format!("{}: {}", columns.join(", "), run.file_name()),
         },
         Axis::labelled(axis_label("t")),
-        Axis::labelled(joint_label(columns)),
+        Axis::labelled(y_label),
     );
     for (k, table) in tables.iter().enumerate() {
         if table.rows() == 0 {
@@ -88,11 +138,12 @@ pub fn series(
         let t = table.column("t")?;
         for (j, name) in columns.iter().enumerate() {
             let y = table.column(name)?;
+            let factor = units.get(j).map_or(1.0, |u| u.0);
             fig.series.push(Series {
                 name: several.then(|| format!("{name} ({})", table.file_name())),
                 style: Style::Line,
                 colour: k * columns.len() + j,
-                points: points(t, y),
+                points: scaled_points(t, 1.0, y, factor),
             });
         }
     }
@@ -201,16 +252,18 @@ pub fn poincare(table: &Table, x: &str, y: &str) -> Result<Figure, PlotError> {
     if table.rows() == 0 {
         return Err(no_rows(table));
     }
+    let (fx, ux) = display_unit(unit_of(x), [xs]);
+    let (fy, uy) = display_unit(unit_of(y), [ys]);
     let mut fig = Figure::new(
         format!("Poincaré section: {}", table.file_name()),
-        Axis::labelled(axis_label(x)),
-        Axis::labelled(axis_label(y)),
+        Axis::labelled(label_with(x, ux)),
+        Axis::labelled(label_with(y, uy)),
     );
     fig.series.push(Series {
         name: None,
         style: Style::Dots { radius: 3 },
         colour: 0,
-        points: points(xs, ys),
+        points: scaled_points(xs, fx, ys, fy),
     });
     Ok(fig)
 }
@@ -225,16 +278,17 @@ pub fn bifurcation(table: &Table) -> Result<Figure, PlotError> {
     if table.rows() == 0 {
         return Err(no_rows(table));
     }
+    let (fv, uv) = display_unit(unit_of(value), [v]);
     let mut fig = Figure::new(
         format!("Bifurcation diagram: {}", table.file_name()),
         Axis::labelled(axis_label(param)),
-        Axis::labelled(axis_label(value)),
+        Axis::labelled(label_with(value, uv)),
     );
     fig.series.push(Series {
         name: None,
-        style: Style::Dots { radius: 1 },
+        style: Style::Dots { radius: 2 },
         colour: 0,
-        points: points(p, v),
+        points: scaled_points(p, 1.0, v, fv),
     });
     Ok(fig)
 }
@@ -292,15 +346,16 @@ pub fn phase(table: &Table, value_name: Option<&str>) -> Result<Figure, PlotErro
     if table.rows() == 0 {
         return Err(no_rows(table));
     }
-    let (x_label, y_label) = match value_name {
-        Some(name) => match unit_of(name) {
-            Some(u) => (
+    let (factor, x_label, y_label) = match value_name {
+        Some(name) => match display_unit(unit_of(name), [v]) {
+            (f, Some(u)) => (
+                f,
                 format!("{name} ({u})"),
                 format!("d({name})/dt ({})", rate_unit(u)),
             ),
-            None => (name.to_string(), format!("d({name})/dt")),
+            (f, None) => (f, name.to_string(), format!("d({name})/dt")),
         },
-        None => ("value".to_string(), "rate (value/s)".to_string()),
+        None => (1.0, "value".to_string(), "rate (value/s)".to_string()),
     };
     let mut fig = Figure::new(
         format!("Phase portrait: {}", table.file_name()),
@@ -311,7 +366,7 @@ pub fn phase(table: &Table, value_name: Option<&str>) -> Result<Figure, PlotErro
         name: None,
         style: Style::Line,
         colour: 0,
-        points: points(v, r),
+        points: scaled_points(v, factor, r, factor),
     });
     Ok(fig)
 }
@@ -387,14 +442,18 @@ mod tests {
     }
 
     #[test]
-    fn shared_units_are_written_once() {
+    fn clearance_sized_lengths_are_shown_in_mm() {
+        let run = table("t,B.ex,B.ey,motor.torque\n0,0.0004,-0.0005,3\n1,0,0,4\n");
+        let fig = series(&run, &["B.ex".into(), "B.ey".into()], None).map_err(|e| e.to_string());
+        let fig = fig.map(|f| (f.y.label, f.series[1].points.clone()));
         assert_eq!(
-            joint_label(&["B.ex".into(), "B.ey".into()]),
-            "B.ex, B.ey (m)"
+            fig,
+            Ok(("B.ex, B.ey (mm)".to_string(), vec![(0.0, -0.5), (1.0, 0.0)]))
         );
+        let fig = series(&run, &["B.ex".into(), "motor.torque".into()], None);
         assert_eq!(
-            joint_label(&["B.fn".into(), "motor.torque".into()]),
-            "B.fn (N), motor.torque (N·m)"
+            fig.map(|f| f.y.label).map_err(|e| e.to_string()),
+            Ok("B.ex (mm), motor.torque (N·m)".to_string())
         );
     }
 }

@@ -178,15 +178,37 @@ fn equalise((x0, x1): (f64, f64), (y0, y1): (f64, f64), w: u32, h: u32) -> [(f64
     [(cx - hw, cx + hw), (cy - hh, cy + hh)]
 }
 
+/// A chart builder with the figure's margins; `y_area` is the width (px) left of the plot
+/// for the y tick labels and the y-axis label.
 fn builder<'a, 'b, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
+    y_area: u32,
 ) -> ChartBuilder<'a, 'b, DB> {
     let mut b = ChartBuilder::on(area);
     b.margin(20)
         .margin_right(40)
         .x_label_area_size(80)
-        .y_label_area_size(130);
+        .y_label_area_size(y_area);
     b
+}
+
+/// Width (px) for the y tick labels and axis label: the longest of the labels at eleven
+/// points across the range, at DejaVu Sans's digit advance (0.64 em), plus the rotated axis
+/// label's line and gaps.
+fn y_area_width((lo, hi): (f64, f64), log: bool) -> u32 {
+    let chars = (0..=10)
+        .map(|k| {
+            let v = if log {
+                lo * (hi / lo).powf(f64::from(k) / 10.0)
+            } else {
+                lo + (hi - lo) * f64::from(k) / 10.0
+            };
+            tick_label(v, hi - lo, log).chars().count()
+        })
+        .max()
+        .unwrap_or(4);
+    let ticks = (chars as f64 * 0.64 * f64::from(TICK_PX)).ceil() as u32;
+    (ticks + 2 * AXIS_LABEL_PX + 20).max(90)
 }
 
 /// How a thick polyline is drawn.
@@ -214,19 +236,20 @@ fn draw<DB: DrawingBackend>(
     let mut yr = axis_range(fig, true)?;
     if fig.equal_aspect && !fig.x.log && !fig.y.log {
         // The plotting area's size depends only on the label areas, not on the ranges.
-        let probe = builder(&area)
+        let probe = builder(&area, y_area_width(yr, fig.y.log))
             .build_cartesian_2d(0.0..1.0, 0.0..1.0)
             .map_err(|e| e.to_string())?;
         let (w, h) = probe.plotting_area().dim_in_pixel();
         [xr, yr] = equalise(xr, yr, w, h);
     }
+    let y_area = y_area_width(yr, fig.y.log);
     let x = xr.0..xr.1;
     let y = yr.0..yr.1;
     match (fig.x.log, fig.y.log) {
-        (false, false) => chart(&area, fig, joins, x, y),
-        (false, true) => chart(&area, fig, joins, x, y.log_scale()),
-        (true, false) => chart(&area, fig, joins, x.log_scale(), y),
-        (true, true) => chart(&area, fig, joins, x.log_scale(), y.log_scale()),
+        (false, false) => chart(&area, fig, joins, y_area, x, y),
+        (false, true) => chart(&area, fig, joins, y_area, x, y.log_scale()),
+        (true, false) => chart(&area, fig, joins, y_area, x.log_scale(), y),
+        (true, true) => chart(&area, fig, joins, y_area, x.log_scale(), y.log_scale()),
     }
 }
 
@@ -235,6 +258,7 @@ fn chart<DB, X, Y>(
     area: &DrawingArea<DB, Shift>,
     fig: &Figure,
     joins: Joins,
+    y_area: u32,
     x: X,
     y: Y,
 ) -> Result<(), String>
@@ -245,7 +269,7 @@ where
     X::CoordDescType: ValueFormatter<f64>,
     Y::CoordDescType: ValueFormatter<f64>,
 {
-    let mut chart = builder(area)
+    let mut chart = builder(area, y_area)
         .build_cartesian_2d(x, y)
         .map_err(|e| e.to_string())?;
     let (xr, yr) = (chart.x_range(), chart.y_range());
@@ -269,6 +293,9 @@ where
     let x_range = chart.x_range();
     let y_range = chart.y_range();
     let grey = RGBColor(120, 120, 120);
+    // Labels closer than this (px) to the previous one are left out: the lines still show.
+    let min_gap = 2 * i32::try_from(TICK_PX).unwrap_or(20);
+    let mut last_label_px = i32::MIN / 2;
     for (xm, label) in &fig.vertical_marks {
         if !(x_range.start..=x_range.end).contains(xm) {
             continue;
@@ -281,7 +308,9 @@ where
                 grey.stroke_width(1),
             ))
             .map_err(|e| e.to_string())?;
-        if !label.is_empty() {
+        let px = chart.backend_coord(&(*xm, y_range.end)).0;
+        if !label.is_empty() && px - last_label_px >= min_gap {
+            last_label_px = px;
             chart
                 .draw_series(std::iter::once(Text::new(
                     label.clone(),
@@ -356,7 +385,7 @@ where
     Ok(())
 }
 
-/// A tick label: a linear axis shows as many decimals as its span needs (two significant
+/// A tick label: a linear axis shows as many decimals as its span needs (three significant
 /// digits of the span), without trailing zeros and without `-0`; very large or small values
 /// and log-axis values below 1e-3 or from 1e4 are in scientific notation (`2.5e-6`).
 fn tick_label(v: f64, span: f64, log: bool) -> String {
@@ -396,12 +425,14 @@ fn tick_label(v: f64, span: f64, log: bool) -> String {
     if !(1e-4..1e6).contains(&magnitude) {
         return scientific(v);
     }
-    let decimals = (1.0 - span.log10().floor()).max(0.0) as usize;
+    let decimals = (2.0 - span.log10().floor()).max(0.0) as usize;
     trimmed(format!("{v:.decimals$}"))
 }
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
     #[test]
     fn tick_labels_are_short_and_never_minus_zero() {
         assert_eq!(tick_label(-1e-17, 1.0, false), "0");
@@ -412,8 +443,6 @@ mod tests {
         assert_eq!(tick_label(1e-5, 1.0, true), "1e-5");
         assert_eq!(tick_label(0.01, 1.0, true), "0.01");
     }
-
-    use super::*;
 
     #[test]
     fn equal_aspect_gives_equal_units_per_pixel_and_keeps_the_data() {
