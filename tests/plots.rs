@@ -251,6 +251,20 @@ fn every_kind_gives_a_png_and_a_well_formed_labelled_svg() {
         &["phase", &s(&i.phase), "--value-name", "coupler.omega"],
         &["coupler.omega (rad/s)", "d(coupler.omega)/dt (rad/s²)"],
     );
+    // The mechanism at one instant, with the model from the run's provenance.
+    both_formats(
+        &dir,
+        "mechanism",
+        &["mechanism", &s(&i.run), "--time", "0.05"],
+        &[
+            "x (m)",
+            "y (m)",
+            "crank",
+            "coupler",
+            "rocker",
+            "(clearances × 100)",
+        ],
+    );
     both_formats(
         &dir,
         "lyapunov",

@@ -99,6 +99,20 @@ enum Kind {
         #[command(flatten)]
         common: Common,
     },
+    /// The mechanism at one instant of a run (model from the file's provenance), clearances
+    /// magnified.
+    Mechanism {
+        /// Result CSV of `linkdyn run` (with the `<body>.x`, `.y`, `.phi` columns).
+        file: PathBuf,
+        /// Time (s); the nearest sample is drawn.
+        #[arg(long, default_value_t = 0.0)]
+        time: f64,
+        /// Factor on clearance circles and journal offsets.
+        #[arg(long, default_value_t = 100.0)]
+        magnify: f64,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Running estimate of the largest Lyapunov exponent (`t,lambda`) against time.
     Lyapunov {
         /// Lyapunov-history CSV.
@@ -172,6 +186,23 @@ pub fn run(args: &PlotArgs) -> Result<(), Failure> {
             value_name,
             common,
         } => (figures::phase(&read(file)?, value_name.as_deref())?, common),
+        Kind::Mechanism {
+            file,
+            time,
+            magnify,
+            common,
+        } => {
+            let run = read(file)?;
+            let (model, _) = figures::model_from_provenance(&run).map_err(|reason| Failure {
+                code: EXIT_BAD_INPUT,
+                message: format!("{}: {reason}", file.display()),
+            })?;
+            let row = linkdyn::plot::row_at(&run, *time)?;
+            (
+                linkdyn::plot::mechanism(&model, &run, row, *magnify)?,
+                common,
+            )
+        }
         Kind::Lyapunov { file, common } => (figures::lyapunov(&read(file)?)?, common),
     };
     let out = &common.out;

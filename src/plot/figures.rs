@@ -201,34 +201,15 @@ pub fn orbit(run: &Table, joint: &str, clearance: f64) -> Result<Figure, PlotErr
 }
 
 /// The radial clearance (m) of joint `joint` in the model named by the run's provenance
-/// (`model PATH` and its `set` overrides). A relative model path is tried from the current
-/// directory, then from the result file's directory.
+/// (see [`model_from_provenance`]).
 pub fn clearance_from_provenance(run: &Table, joint: &str) -> Result<f64, PlotError> {
     let fail = |reason: String| PlotError::Clearance {
         path: run.path.display().to_string(),
         joint: joint.to_string(),
         reason,
     };
-    let Some((model_path, sets)) = run.model_source() else {
-        return Err(fail(
-            "the file names no model (no `# model` line); give --clearance".into(),
-        ));
-    };
-    let beside: Option<PathBuf> = run
-        .path
-        .parent()
-        .filter(|_| model_path.is_relative())
-        .map(|dir| dir.join(&model_path));
-    let path = match beside {
-        Some(b) if !model_path.exists() && b.exists() => b,
-        _ => model_path,
-    };
-    let model = crate::model::load(&path, &sets).map_err(|e| {
-        fail(format!(
-            "cannot load the model {}: {e}; give --clearance",
-            path.display()
-        ))
-    })?;
+    let (model, path) =
+        model_from_provenance(run).map_err(|e| fail(format!("{e}; give --clearance")))?;
     let Some(id) = model.joint_id(joint) else {
         return Err(fail(format!(
             "the model {} has no such joint",
@@ -242,6 +223,28 @@ pub fn clearance_from_provenance(run: &Table, joint: &str) -> Result<f64, PlotEr
             other.type_name(),
             path.display()
         ))),
+    }
+}
+
+/// The model named by a result file's provenance (`model PATH` and its `set` overrides) and
+/// the path it was loaded from, or why not. A relative model path is tried from the current
+/// directory, then from the result file's directory.
+pub fn model_from_provenance(run: &Table) -> Result<(crate::model::Model, PathBuf), String> {
+    let Some((model_path, sets)) = run.model_source() else {
+        return Err("the file names no model (no `# model` line)".into());
+    };
+    let beside: Option<PathBuf> = run
+        .path
+        .parent()
+        .filter(|_| model_path.is_relative())
+        .map(|dir| dir.join(&model_path));
+    let path = match beside {
+        Some(b) if !model_path.exists() && b.exists() => b,
+        _ => model_path,
+    };
+    match crate::model::load(&path, &sets) {
+        Ok(m) => Ok((m, path)),
+        Err(e) => Err(format!("cannot load the model {}: {e}", path.display())),
     }
 }
 
