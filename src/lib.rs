@@ -44,6 +44,7 @@ pub mod formulation;
 pub mod mechanics;
 pub mod model;
 pub mod output;
+pub mod plot;
 pub mod simulation;
 pub mod solve;
 

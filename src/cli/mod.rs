@@ -13,6 +13,7 @@ mod interrupt;
 mod lyapunov;
 mod merge;
 mod phase;
+mod plot;
 mod poincare;
 mod progress;
 mod run;
@@ -54,6 +55,9 @@ enum Command {
     Phase(phase::PhaseArgs),
     /// Largest Lyapunov exponent (CSV `t,lambda` of its convergence), printed with its error.
     Lyapunov(lyapunov::LyapunovArgs),
+    /// Draw a figure (PNG or SVG) from result CSV files: series, orbit, poincare, bifurcation,
+    /// spectrum, phase, lyapunov.
+    Plot(plot::PlotArgs),
 }
 
 /// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
@@ -198,6 +202,7 @@ pub fn main() -> ExitCode {
         Command::Spectrum(args) => spectrum::run(&args),
         Command::Phase(args) => phase::run(&args),
         Command::Lyapunov(args) => lyapunov::run(&args),
+        Command::Plot(args) => plot::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

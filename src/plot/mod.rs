@@ -1,0 +1,126 @@
+//! Figures (PNG or SVG) from plain data: time histories, the journal-centre orbit in its
+//! clearance circle, Poincaré sections, bifurcation diagrams, spectra, phase portraits and
+//! Lyapunov histories.
+//!
+//! The path is data → [`Figure`] → file:
+//!
+//! * [`Table`] reads a linkdyn CSV result file (`#` provenance lines, a header, numbers);
+//! * the builders in [`figures`] turn tables into a [`Figure`]: titles, axis labels with units
+//!   ([`axis_label`]), series and marks. They select and scale columns (m → mm for the orbit)
+//!   and compute nothing else;
+//! * [`render`] draws a figure with `plotters` and writes it atomically (temporary file +
+//!   rename, [`crate::output::AtomicFile`]); the format follows the extension (`.png`, `.svg`).
+//!
+//! Text is drawn with DejaVu Sans embedded in the binary ([`font`]): no system font
+//! library is needed.
+//!
+//! ```no_run
+//! use linkdyn::plot::{figures, render, Table};
+//!
+//! let run = Table::read("r.csv".as_ref())?;
+//! let fig = figures::series(&run, &["motor.torque".to_string()], None)?;
+//! render(&fig, "torque.png".as_ref())?;
+//! # Ok::<(), linkdyn::plot::PlotError>(())
+//! ```
+
+mod error;
+pub mod figures;
+pub mod font;
+mod mechanism;
+mod render;
+mod table;
+mod units;
+
+pub use error::PlotError;
+pub use mechanism::{mechanism, row_at};
+pub use render::{Format, render, render_to_bytes};
+pub use table::Table;
+pub use units::{axis_label, unit_of};
+
+/// Default figure size in pixels (PNG; the SVG uses the same user units): readable on a
+/// laptop screen at 100 %.
+pub const DEFAULT_SIZE: (u32, u32) = (1200, 800);
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Style {
+    /// A polyline through the points in order (non-finite points break it).
+    Line,
+    /// A thin dark-grey line: reference geometry (a clearance circle), drawn under the data.
+    Reference,
+    /// A filled dot of this radius (pixels) at each point.
+    Dots {
+        /// Radius in pixels.
+        radius: u32,
+    },
+}
+
+/// One data series of a figure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Legend entry; `None` keeps it out of the legend.
+    pub name: Option<String>,
+    /// Line or dots.
+    pub style: Style,
+    /// Colour index into the figure palette; equal indices give equal colours.
+    pub colour: usize,
+    /// Points (x, y) in axis units; non-finite points are skipped.
+    pub points: Vec<(f64, f64)>,
+}
+
+/// A horizontal or vertical axis.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Axis {
+    /// Label with unit, e.g. `coupler.omega (rad/s)`.
+    pub label: String,
+    /// Logarithmic scale (only points with a positive coordinate are drawn).
+    pub log: bool,
+    /// Fixed range; `None` fits the data with a 3 % margin.
+    pub range: Option<(f64, f64)>,
+}
+
+/// A figure: what to draw, in axis units, with no reference to any file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    /// Title above the plot.
+    pub title: String,
+    /// Horizontal axis.
+    pub x: Axis,
+    /// Vertical axis.
+    pub y: Axis,
+    /// Data series, drawn in order.
+    pub series: Vec<Series>,
+    /// Vertical reference lines (x, label), drawn dashed behind the data.
+    pub vertical_marks: Vec<(f64, String)>,
+    /// One unit on the x axis is as long as one unit on the y axis (the ranges are widened
+    /// to fit the plotting area's shape).
+    pub equal_aspect: bool,
+    /// Size in pixels (width, height).
+    pub size: (u32, u32),
+}
+
+impl Figure {
+    /// An empty figure with a title and axes, default size.
+    pub fn new(title: impl Into<String>, x: Axis, y: Axis) -> Self {
+        Figure {
+            title: title.into(),
+            x,
+            y,
+            series: Vec::new(),
+            vertical_marks: Vec::new(),
+            equal_aspect: false,
+            size: DEFAULT_SIZE,
+        }
+    }
+}
+
+impl Axis {
+    /// A linear axis fitted to the data.
+    pub fn labelled(label: impl Into<String>) -> Self {
+        Axis {
+            label: label.into(),
+            log: false,
+            range: None,
+        }
+    }
+}

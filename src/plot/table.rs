@@ -1,0 +1,237 @@
+//! A linkdyn CSV result file in memory: its `#` provenance lines, its column names and its
+//! numbers, column by column.
+
+use super::PlotError;
+use std::path::{Path, PathBuf};
+
+/// The contents of a CSV result file: `#` comment lines (provenance), one header row of
+/// column names, then rows of numbers (`NaN` and `inf` are read as such).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// The file it was read from (for messages and provenance look-ups).
+    pub path: PathBuf,
+    /// The comment lines without their leading `# `.
+    pub comments: Vec<String>,
+    /// Column names in file order.
+    pub names: Vec<String>,
+    /// `columns[j][i]`: row i of column j.
+    pub columns: Vec<Vec<f64>>,
+}
+
+impl Table {
+    /// Reads and parses `path`.
+    pub fn read(path: &Path) -> Result<Table, PlotError> {
+        let text = std::fs::read_to_string(path).map_err(|e| PlotError::Read {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        Table::parse(path, &text)
+    }
+
+    /// Parses the text of a result file; `path` is only used in messages.
+    pub fn parse(path: &Path, text: &str) -> Result<Table, PlotError> {
+        let shown = path.display().to_string();
+        let mut comments = Vec::new();
+        let mut names: Option<Vec<String>> = None;
+        let mut columns: Vec<Vec<f64>> = Vec::new();
+        for (k, line) in text.lines().enumerate() {
+            let line = line.trim_end_matches('\r');
+            if let Some(c) = line.strip_prefix('#') {
+                comments.push(c.strip_prefix(' ').unwrap_or(c).to_string());
+                continue;
+            }
+            if line.trim().is_empty() {
+                continue;
+            }
+            let Some(header) = &names else {
+                let header: Vec<String> = line.split(',').map(|s| s.trim().to_string()).collect();
+                columns = vec![Vec::new(); header.len()];
+                names = Some(header);
+                continue;
+            };
+            let mut n = 0;
+            for (j, field) in line.split(',').enumerate() {
+                let Some(column) = columns.get_mut(j) else {
+                    n = j + 1;
+                    continue;
+                };
+                let x: f64 = field.trim().parse().map_err(|_| PlotError::Parse {
+                    path: shown.clone(),
+                    line: k + 1,
+                    reason: format!(
+                        "column `{}`: `{}` is not a number",
+                        header.get(j).map(String::as_str).unwrap_or("?"),
+                        field.trim()
+                    ),
+                })?;
+                column.push(x);
+                n = j + 1;
+            }
+            if n != header.len() {
+                return Err(PlotError::Parse {
+                    path: shown,
+                    line: k + 1,
+                    reason: format!("{n} fields, the header has {}", header.len()),
+                });
+            }
+        }
+        let Some(names) = names else {
+            return Err(PlotError::NoData {
+                path: shown,
+                reason: "no header row (is this a linkdyn CSV file?)".into(),
+            });
+        };
+        Ok(Table {
+            path: path.to_path_buf(),
+            comments,
+            names,
+            columns,
+        })
+    }
+
+    /// Number of data rows.
+    pub fn rows(&self) -> usize {
+        self.columns.first().map_or(0, Vec::len)
+    }
+
+    /// The column called `name`, or an error naming the file, the column and the file's
+    /// columns.
+    pub fn column(&self, name: &str) -> Result<&[f64], PlotError> {
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .and_then(|j| self.columns.get(j))
+            .map(Vec::as_slice)
+            .ok_or_else(|| PlotError::MissingColumn {
+                path: self.path.display().to_string(),
+                column: name.to_string(),
+                available: self.names.join(","),
+            })
+    }
+
+    /// The column at position `j` with its name (for formats whose columns are known by
+    /// position, e.g. a bifurcation file's parameter), or a missing-column error naming
+    /// `what`.
+    pub fn column_at(&self, j: usize, what: &str) -> Result<(&str, &[f64]), PlotError> {
+        match (self.names.get(j), self.columns.get(j)) {
+            (Some(n), Some(c)) => Ok((n.as_str(), c.as_slice())),
+            _ => Err(PlotError::MissingColumn {
+                path: self.path.display().to_string(),
+                column: what.to_string(),
+                available: self.names.join(","),
+            }),
+        }
+    }
+
+    /// The model file and its `--set` overrides named in the provenance (`model PATH sha256 H`
+    /// and `set X=V` lines), unescaped; `None` without a `model` line.
+    pub fn model_source(&self) -> Option<(PathBuf, Vec<String>)> {
+        let model = self.comments.iter().find_map(|c| {
+            let rest = c.strip_prefix("model ")?;
+            // The path may contain spaces: the hash is the last field.
+            let path = rest.rsplit_once(" sha256 ").map_or(rest, |(p, _)| p);
+            Some(PathBuf::from(unescape(path)))
+        })?;
+        let sets = self
+            .comments
+            .iter()
+            .filter_map(|c| c.strip_prefix("set ").map(unescape))
+            .collect();
+        Some((model, sets))
+    }
+
+    /// The file name for titles (`r.csv`).
+    pub fn file_name(&self) -> String {
+        self.path.file_name().map_or_else(
+            || self.path.display().to_string(),
+            |f| f.to_string_lossy().into_owned(),
+        )
+    }
+}
+
+/// Undoes [`crate::simulation::escape_line`]-style escapes: `\\`, `\n`, `\r`, `\t`, `\u{XX}`.
+fn unescape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    let mut chars = s.chars();
+    while let Some(c) = chars.next() {
+        if c != '\\' {
+            out.push(c);
+            continue;
+        }
+        match chars.next() {
+            Some('n') => out.push('\n'),
+            Some('r') => out.push('\r'),
+            Some('t') => out.push('\t'),
+            Some('u') => {
+                let code: String = chars
+                    .by_ref()
+                    .skip_while(|&c| c == '{')
+                    .take_while(|&c| c != '}')
+                    .collect();
+                if let Some(ch) = u32::from_str_radix(&code, 16).ok().and_then(char::from_u32) {
+                    out.push(ch);
+                }
+            }
+            Some(other) => out.push(other),
+            None => out.push('\\'),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const RUN: &str = "# linkdyn 0.1.0 (abc)\n# model dir with space/m.toml sha256 00ff\n\
+                       # set joints.B.clearance=0.001\n# dt = 0.001\nt,B.ex\n0,1e-4\n0.001,NaN\n";
+
+    #[test]
+    fn reads_provenance_header_and_numbers() {
+        let t = Table::parse(Path::new("r.csv"), RUN).map_err(|e| e.to_string());
+        let Ok(t) = t else {
+            panic!("parse failed: {t:?}");
+        };
+        assert_eq!(t.names, vec!["t", "B.ex"]);
+        assert_eq!(t.rows(), 2);
+        assert_eq!(t.column("t").ok(), Some(&[0.0, 0.001][..]));
+        assert!(t.column("B.ex").is_ok_and(|c| c[1].is_nan()));
+        assert_eq!(
+            t.model_source(),
+            Some((
+                PathBuf::from("dir with space/m.toml"),
+                vec!["joints.B.clearance=0.001".to_string()]
+            ))
+        );
+    }
+
+    #[test]
+    fn missing_column_names_file_and_column() {
+        let t = Table::parse(Path::new("r.csv"), RUN).map_err(|e| e.to_string());
+        let msg = t.map(|t| t.column("B.fn").map(|_| ()).map_err(|e| e.to_string()));
+        assert_eq!(
+            msg,
+            Ok(Err("r.csv: no column `B.fn` (columns: t,B.ex)".to_string()))
+        );
+    }
+
+    #[test]
+    fn ragged_row_and_text_are_reported_with_line() {
+        let e = Table::parse(Path::new("a.csv"), "t,x\n0,1\n1\n").map(|_| ());
+        assert_eq!(
+            e.map_err(|e| e.to_string()),
+            Err("a.csv:3: 1 fields, the header has 2".to_string())
+        );
+        let e = Table::parse(Path::new("a.csv"), "t,x\n0,abc\n").map(|_| ());
+        assert_eq!(
+            e.map_err(|e| e.to_string()),
+            Err("a.csv:2: column `x`: `abc` is not a number".to_string())
+        );
+    }
+
+    #[test]
+    fn escapes_round_trip() {
+        let raw = "a\\b\nc\t\u{7}";
+        assert_eq!(unescape(&crate::simulation::escape_line(raw)), raw);
+    }
+}
