@@ -25,8 +25,10 @@ pub struct RunSummary {
     pub sink_time_s: f64,
     /// Number of output samples.
     pub samples: usize,
-    /// Largest constraint violation |Φ| over the samples (m or rad; 0 for the reduced
-    /// formulation).
+    /// Largest constraint violation |Φ| over the output samples and every accepted step end
+    /// (m or rad; 0 for the reduced formulation). A DAE run whose |Φ| passes the bound of
+    /// [`violation_limit`](crate::formulation::dae::violation_limit) at a step end stops with
+    /// an error instead.
     pub max_constraint_violation: f64,
     /// Per clearance joint, in model order: impacts, separations, first impact times, largest
     /// penetration and peak normal force (the last two over the output samples).
