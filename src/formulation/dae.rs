@@ -129,13 +129,15 @@ impl Dae {
         let constraints = ConstraintSet::from_model(model, false);
         let assembly = assemble(model, &assembly_set, &constraints, 0.0)?;
         let m = constraints.n_rows();
-        let redundant = if model.has_clearance_joints() {
-            // The assembly set has extra rows for the clearance joints: find the dynamic set's own
-            // redundancy at the assembled positions.
-            super::assembly::redundant_rows_at(&constraints, &assembly.q, &assembly.v)
-        } else {
-            assembly.redundant_rows.clone()
-        };
+        // The dynamic set's own redundancy at the assembled state (the assembly set has extra
+        // rows for the clearance joints); a conflicting row is an error, never dropped.
+        let redundant = super::assembly::redundant_rows_checked(
+            model,
+            &constraints,
+            &assembly.q,
+            &assembly.v,
+            0.0,
+        )?;
         let active: Vec<usize> = (0..m).filter(|k| !redundant.contains(k)).collect();
         let inv_mass = model
             .bodies
