@@ -197,7 +197,7 @@ pub struct Mutant {
     pub args: Vec<String>,
 }
 
-/// The mutant of `seed`: 0 to 3 mutations of one shipped model, and settings inside and
+/// The mutant of `seed`: 0 to 5 mutations of one shipped model, and settings inside and
 /// beyond their ranges.
 pub fn mutant(seed: u64) -> Mutant {
     let mut rng = Rng::new(seed);
@@ -205,7 +205,7 @@ pub fn mutant(seed: u64) -> Mutant {
     let text = std::fs::read_to_string(base).unwrap_or_default();
     let mut doc: toml::Value = toml::from_str(&text).unwrap_or(toml::Value::Boolean(false));
     let mut mutations = Vec::new();
-    for _ in 0..rng.below(4) {
+    for _ in 0..rng.below(6) {
         mutations.push(mutate_once(&mut doc, &mut rng));
     }
     let text = toml::to_string(&doc).unwrap_or_default();
@@ -213,10 +213,10 @@ pub fn mutant(seed: u64) -> Mutant {
     let mut args = Vec::new();
     if rng.below(2) == 0 {
         args.push("--revs".into());
-        args.push(num(&mut rng, &["0.02", "0.05", "0", "-1", "1e-9", "nan"]));
+        args.push(num(&mut rng, &["0.02", "0.05", "0.1", "0.3", "0", "-1", "1e-9", "nan"]));
     } else {
         args.push("--t-end".into());
-        args.push(num(&mut rng, &["0.02", "0.05", "0", "-1", "inf", "1e-300"]));
+        args.push(num(&mut rng, &["0.02", "0.05", "0.1", "0.3", "0", "-1", "inf", "1e-300"]));
     }
     for (flag, values) in [
         (
