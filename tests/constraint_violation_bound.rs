@@ -151,3 +151,31 @@ fn the_shipped_models_never_come_near_the_bound() {
     }
     assert!(checked >= 30, "only {checked} runs succeeded");
 }
+
+#[test]
+fn the_summary_maximum_covers_every_step_not_only_the_samples() {
+    // The double pendulum at a loose tolerance sampled only at t = 0 and t = 3 s: between the
+    // two samples some hundred steps drift and are pulled back by Baumgarte's term, so the
+    // maximum over the step ends is larger than over the two samples.
+    let model = load("models/double_pendulum.toml", &[]);
+    let solver = SolverOptions::default().rtol(1e-4).atol(1e-4);
+    let sim = Simulation::new(
+        &model,
+        SimulationOptions::default()
+            .t_end(3.0)
+            .dt(3.0)
+            .solver(solver),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let run = sim.run_to_memory().unwrap_or_else(|e| panic!("{e}"));
+    let at_samples = run
+        .constraint_violation
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(*v));
+    assert_eq!(run.t.len(), 2, "two samples");
+    assert!(
+        run.summary.max_constraint_violation > at_samples,
+        "max over steps {:e} vs over the samples {at_samples:e}",
+        run.summary.max_constraint_violation
+    );
+}
