@@ -213,10 +213,16 @@ pub fn mutant(seed: u64) -> Mutant {
     let mut args = Vec::new();
     if rng.below(2) == 0 {
         args.push("--revs".into());
-        args.push(num(&mut rng, &["0.02", "0.05", "0.1", "0.3", "0", "-1", "1e-9", "nan"]));
+        args.push(num(
+            &mut rng,
+            &["0.02", "0.05", "0.1", "0.3", "0", "-1", "1e-9", "nan"],
+        ));
     } else {
         args.push("--t-end".into());
-        args.push(num(&mut rng, &["0.02", "0.05", "0.1", "0.3", "0", "-1", "inf", "1e-300"]));
+        args.push(num(
+            &mut rng,
+            &["0.02", "0.05", "0.1", "0.3", "0", "-1", "inf", "1e-300"],
+        ));
     }
     for (flag, values) in [
         (
