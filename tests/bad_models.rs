@@ -37,6 +37,10 @@ const CASES: &[(&str, &str)] = &[
         "tests/bad_models/driver_name_quote.toml:24:8: drivers[0].name: invalid driver name \"mo\\\"tor\": '\"' (it quotes a CSV field) is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
     ),
     (
+        "driver_on_locked_body",
+        "tests/bad_models/driver_on_locked_body.toml: conflicting constraints at t = 0: \"motor\" depends on \"O.x\", \"T.x\", and a driver must prescribe a motion the other constraints leave free, but at the assembled position this one is a combination of them (its angle is already fixed by them: two drivers on one loop, or a link of zero length); remove one of them or fix the geometry",
+    ),
+    (
         "driver_on_prismatic",
         "tests/bad_models/driver_on_prismatic.toml:41:9: drivers.motor.joint: driver \"motor\" drives joint \"A\", which is prismatic; a constant-speed driver needs a revolute joint",
     ),
@@ -151,6 +155,10 @@ const CASES: &[(&str, &str)] = &[
     (
         "syntax_error",
         "tests/bad_models/syntax_error.toml:6:26: (TOML syntax): missing comma between array elements, expected `,`",
+    ),
+    (
+        "two_drivers_one_loop",
+        "tests/bad_models/two_drivers_one_loop.toml: conflicting constraints at t = 0: \"motor2\" depends on \"O2.x\", \"O2.y\", \"A.x\", \"A.y\", \"B.x\", \"B.y\", \"O4.x\", \"O4.y\", \"motor\", and a driver must prescribe a motion the other constraints leave free, but at the assembled position this one is a combination of them (its angle is already fixed by them: two drivers on one loop, or a link of zero length); remove one of them or fix the geometry",
     ),
     (
         "unassemblable",

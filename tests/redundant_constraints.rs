@@ -1,7 +1,9 @@
 //! Redundant constraints are detected, reported by `check`, and left out of the dynamics without
 //! changing the motion: a pendulum hung on two coincident pins moves exactly like the pendulum on
 //! one, and a parallelogram linkage with a third, parallel crank (a classic over-constrained
-//! mechanism) keeps one degree of freedom.
+//! mechanism) keeps one degree of freedom. Conflicting rows (a dependent driver, or a dependent
+//! row whose velocity or acceleration contradicts its combination) are errors instead: see
+//! `tests/bad_models/two_drivers_one_loop.toml` and `driver_on_locked_body.toml`.
 
 mod common;
 use common::*;

@@ -7,7 +7,7 @@
 //! Rank and redundant rows come from a Gram–Schmidt pass over the rows of Φ_q at the solution.
 
 use super::FormulationError;
-use crate::mechanics::constraints::{ConstraintEval, ConstraintSet};
+use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
 use crate::model::Model;
 use nalgebra::{DMatrix, DVector};
 
@@ -193,6 +193,109 @@ pub fn redundant_rows_at(set: &ConstraintSet, q: &[f64], v: &[f64]) -> Vec<usize
     let mut eval = ConstraintEval::with_rows(set.n_rows());
     evaluate(set, 0.0, q, v, &mut eval);
     redundant_rows(&dense_jacobian(&eval, q.len()))
+}
+
+/// Relative size of a coefficient below which a row does not count among those a dependent
+/// row is a combination of (it is round-off of the least-squares fit).
+const COEFFICIENT_TOLERANCE: f64 = 1e-9;
+/// Relative defect of a dependent row's velocity or acceleration right-hand side above which it
+/// contradicts the rows it depends on (the assembled state is consistent to ~1e-12, so a
+/// defect of 1e-8 relative to the largest right-hand side is a real conflict).
+const CONFLICT_TOLERANCE: f64 = 1e-8;
+
+/// The redundant rows of `set` at the assembled state (q, v) at time `t0`, after making sure
+/// that each is a consistent redundancy that can be left out (a doubled pin, the extra crank
+/// of an over-constrained parallelogram). A redundant row is a conflict, and an error naming it
+/// and the rows it is a combination of, if
+///
+/// * it is a driver: a driver is never dropped, since the motion it prescribes would then be
+///   whatever the other rows allow (two drivers on one loop, a driver on a degenerate body);
+/// * its velocity or acceleration right-hand side differs from the same combination of the
+///   others': with Φ_q,k = Σ cᵢ Φ_q,i, consistency needs Φ_t,k = Σ cᵢ Φ_t,i and
+///   γ_k = Σ cᵢ γᵢ (ref. 2 of [`crate::formulation::dae`], §3.7).
+pub fn redundant_rows_checked(
+    model: &Model,
+    set: &ConstraintSet,
+    q: &[f64],
+    v: &[f64],
+    t0: f64,
+) -> Result<Vec<usize>, FormulationError> {
+    let mut eval = ConstraintEval::with_rows(set.n_rows());
+    evaluate(set, t0, q, v, &mut eval);
+    let jac = dense_jacobian(&eval, q.len());
+    let redundant = redundant_rows(&jac);
+    let rhs_scale = |x: &[f64]| 1.0 + max_abs(x);
+    let (scale_t, scale_gamma) = (rhs_scale(&eval.phi_t), rhs_scale(&eval.gamma));
+    // Drivers first: a dependent driver is the root of any other inconsistency (a pin that
+    // locks a driven body makes the pin's acceleration term disagree too).
+    let is_driver = |k: usize| matches!(set.sources()[k], RowSource::Driver(_));
+    let ordered = redundant
+        .iter()
+        .filter(|&&k| is_driver(k))
+        .chain(redundant.iter().filter(|&&k| !is_driver(k)));
+    for &k in ordered {
+        let independent: Vec<usize> = (0..k).filter(|i| !redundant.contains(i)).collect();
+        let coefficients = combination(&jac, k, &independent);
+        let largest = coefficients.iter().fold(0.0_f64, |m, c| m.max(c.abs()));
+        let terms: Vec<(usize, f64)> = independent
+            .iter()
+            .zip(&coefficients)
+            .filter(|(_, c)| c.abs() > COEFFICIENT_TOLERANCE * largest)
+            .map(|(&i, &c)| (i, c))
+            .collect();
+        let combined = |x: &[f64]| terms.iter().map(|&(i, c)| c * x[i]).sum::<f64>();
+        let velocity_defect = (eval.phi_t[k] - combined(&eval.phi_t)).abs();
+        let acceleration_defect = (eval.gamma[k] - combined(&eval.gamma)).abs();
+        let reason = if is_driver(k) {
+            Some(
+                "a driver must prescribe a motion the other constraints leave free, but at the assembled position this one is a combination of them (its angle is already fixed by them: two drivers on one loop, or a link of zero length)"
+                    .to_string(),
+            )
+        } else if velocity_defect > CONFLICT_TOLERANCE * scale_t {
+            Some(format!(
+                "its prescribed velocity differs from theirs by {velocity_defect:.3e} (m/s or rad/s): the drivers prescribe incompatible speeds"
+            ))
+        } else if acceleration_defect > CONFLICT_TOLERANCE * scale_gamma {
+            Some(format!(
+                "its acceleration term γ differs from theirs by {acceleration_defect:.3e} (m/s² or rad/s²): the rows cannot all hold as the linkage moves"
+            ))
+        } else {
+            None
+        };
+        if let Some(reason) = reason {
+            let depends_on = if terms.is_empty() {
+                "no other row (it is zero: it constrains nothing)".to_string()
+            } else {
+                terms
+                    .iter()
+                    .map(|&(i, _)| format!("\"{}\"", set.row_name(model, i)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            return Err(FormulationError::ConflictingConstraints {
+                row: set.row_name(model, k),
+                depends_on,
+                reason,
+            });
+        }
+    }
+    Ok(redundant)
+}
+
+/// Least-squares coefficients c with Σ cᵢ J_rowsᵢ ≈ J_k (SVD, minimum norm).
+fn combination(jac: &DMatrix<f64>, k: usize, rows: &[usize]) -> Vec<f64> {
+    if rows.is_empty() {
+        return Vec::new();
+    }
+    let basis = DMatrix::from_fn(jac.ncols(), rows.len(), |c, r| jac[(rows[r], c)]);
+    let target: DVector<f64> = jac.row(k).transpose();
+    let svd = basis.svd(true, true);
+    let eps = 1e-12 * svd.singular_values.max().max(1e-300);
+    match svd.solve(&target, eps) {
+        Ok(c) => c.iter().copied().collect(),
+        // Only fails without U/V, which were asked for: treat as "no combination found".
+        Err(_) => vec![0.0; rows.len()],
+    }
 }
 
 /// Rows of `jac` that lie (to [`RANK_TOLERANCE`]) in the span of the rows before them.

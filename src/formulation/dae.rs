@@ -25,6 +25,7 @@ use super::contacts::ContactSites;
 use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
 use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
+use crate::mechanics::planar::point_state;
 use crate::model::{Baumgarte, JointKind, Model};
 use std::cell::RefCell;
 
@@ -102,6 +103,10 @@ pub struct Dae {
     /// T + U + V_contact at the initial state (J), the reference of the energy balance.
     initial_energy: f64,
     assembly: Assembly,
+    /// Length scale L of the linkage (m): see [`Dae::length_scale`].
+    length_scale: f64,
+    /// Largest |Φ| over the accepted step ends so far (m or rad).
+    max_step_violation: f64,
     work: RefCell<Work>,
 }
 
@@ -124,13 +129,15 @@ impl Dae {
         let constraints = ConstraintSet::from_model(model, false);
         let assembly = assemble(model, &assembly_set, &constraints, 0.0)?;
         let m = constraints.n_rows();
-        let redundant = if model.has_clearance_joints() {
-            // The assembly set has extra rows for the clearance joints: find the dynamic set's own
-            // redundancy at the assembled positions.
-            super::assembly::redundant_rows_at(&constraints, &assembly.q, &assembly.v)
-        } else {
-            assembly.redundant_rows.clone()
-        };
+        // The dynamic set's own redundancy at the assembled state (the assembly set has extra
+        // rows for the clearance joints); a conflicting row is an error, never dropped.
+        let redundant = super::assembly::redundant_rows_checked(
+            model,
+            &constraints,
+            &assembly.q,
+            &assembly.v,
+            0.0,
+        )?;
         let active: Vec<usize> = (0..m).filter(|k| !redundant.contains(k)).collect();
         let inv_mass = model
             .bodies
@@ -150,6 +157,8 @@ impl Dae {
             baumgarte: options.baumgarte.unwrap_or(model.settings.baumgarte),
             energy: options.energy,
             initial_energy: 0.0,
+            length_scale: length_scale(model, &assembly.q),
+            max_step_violation: 0.0,
             assembly,
             work: RefCell::new(Work {
                 sin_cos: vec![(0.0, 1.0); nb],
@@ -195,6 +204,14 @@ impl Dae {
     /// Baumgarte factors in use.
     pub fn baumgarte(&self) -> Baumgarte {
         self.baumgarte
+    }
+
+    /// Length scale L of the linkage (m): the largest distance between two of its points at
+    /// the assembled position (body centres of mass and both ends of every joint), at least
+    /// [`MIN_LENGTH_SCALE`]. It sets the bound on the constraint violation
+    /// ([`violation_limit`]).
+    pub fn length_scale(&self) -> f64 {
+        self.length_scale
     }
 
     /// Number of coordinates (3 per body).
@@ -491,6 +508,10 @@ impl Outputs for Dae {
         }
         Ok(eval.phi.iter().fold(0.0_f64, |m, p| m.max(p.abs())))
     }
+
+    fn step_constraint_violation(&self) -> f64 {
+        self.max_step_violation
+    }
 }
 
 /// Active rows i ≥ j whose Jacobian blocks `side_i` and `side_j` (0 = body a, 1 = body b) act on
@@ -527,6 +548,66 @@ fn couplings(set: &ConstraintSet, active: &[usize], assembly: &Assembly) -> Vec<
         }
     }
     out
+}
+
+/// Smallest length scale (m) used for the violation bound, for a linkage whose points all
+/// coincide (a body pinned at its own centre of mass): 1 mm, below any shipped link.
+pub const MIN_LENGTH_SCALE: f64 = 1e-3;
+
+/// Multiple of the tolerance-scaled error `rtol·L + atol` that the violation may reach before
+/// the floor of the bound takes over (see [`violation_limit`]).
+pub const VIOLATION_FACTOR: f64 = 100.0;
+
+/// Bound on the constraint violation |Φ| at an accepted step end: (metres for position rows,
+/// radians for angle rows: driver and prismatic-angle rows)
+///
+/// ```text
+///     |Φ|_max = min(0.1 L, max(1e-3 L, 100 (rtol L + atol)))      (m)
+///     |Φ|_max = min(0.1,   max(1e-3,   100 (rtol + atol)))        (rad)
+/// ```
+///
+/// with L the length scale of the linkage ([`Dae::length_scale`]). Why these numbers: an
+/// integration to `rtol`, `atol` puts a local error of about `rtol·L + atol` on the positions
+/// each step, which Baumgarte's term (ref. 1) pulls back within a few 1/β; a hundred times that
+/// leaves room for the accumulation over those steps. The floor 1e-3 L (a thousandth of the
+/// linkage, 0.06 ° of angle) is where a result is still a picture of the linkage at tight
+/// tolerances, and keeps the bound clear of the round-off of the rows. Beyond 0.1 L (a tenth
+/// of the linkage, 5.7 ° of angle) no tolerance makes a result meaningful: the joints are
+/// visibly apart. Measured on the shipped models with rtol = atol from 1e-4 to 1e-12 (the
+/// clearance models included), the largest violation at the step ends stays at least ten times
+/// below the bound (see `tests/constraint_violation_bound.rs`).
+pub fn violation_limit(length_scale: f64, rtol: f64, atol: f64) -> (f64, f64) {
+    let l = length_scale;
+    let metres = (VIOLATION_FACTOR * (rtol * l + atol))
+        .max(1e-3 * l)
+        .min(0.1 * l);
+    let radians = (VIOLATION_FACTOR * (rtol + atol)).clamp(1e-3, 0.1);
+    (metres, radians)
+}
+
+/// Whether a constraint row is an angle (rad) rather than a position (m).
+fn is_angle_row(source: RowSource) -> bool {
+    matches!(source, RowSource::Driver(_) | RowSource::PrismaticAngle(_))
+}
+
+/// The length scale of [`Dae::length_scale`] at the assembled coordinates `q`.
+fn length_scale(model: &Model, q: &[f64]) -> f64 {
+    let sin_cos = sin_cos_of(q);
+    let zero = vec![0.0; q.len()];
+    let mut points: Vec<[f64; 2]> = (0..q.len() / 3).map(|i| [q[3 * i], q[3 * i + 1]]).collect();
+    for j in &model.joints {
+        for end in [&j.a, &j.b] {
+            points.push(point_state(end.frame, end.local, q, &zero, &sin_cos).position);
+        }
+    }
+    let mut diameter = 0.0_f64;
+    for (k, a) in points.iter().enumerate() {
+        for b in &points[k + 1..] {
+            diameter = diameter.max((a[0] - b[0]).hypot(a[1] - b[1]));
+        }
+    }
+    // A NaN distance (never from an assembled model) falls back to the floor.
+    diameter.max(MIN_LENGTH_SCALE)
 }
 
 /// (sin φ, cos φ) of every body.
@@ -605,6 +686,66 @@ impl Formulation for Dae {
             Crossing::Falling => 0.0,
         };
         EventResponse::Restart
+    }
+
+    /// Checks |Φ| of every row at the step end against [`violation_limit`] (positions in m,
+    /// angles in rad) and keeps the largest |Φ| seen ([`Outputs::step_constraint_violation`]).
+    /// Costs one evaluation of the constraint rows per step, a fraction of one RHS call.
+    fn accept_step(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        rtol: f64,
+        atol: f64,
+    ) -> Result<(), FormulationError> {
+        let n = self.n_coordinates();
+        let work = self.work.get_mut();
+        for (i, sc) in work.sin_cos.iter_mut().enumerate() {
+            *sc = y[3 * i + 2].sin_cos();
+        }
+        self.constraints.evaluate_into(
+            t,
+            &y[..n],
+            &y[n..2 * n],
+            &work.sin_cos,
+            &mut work.constraints,
+        );
+        let (limit_m, limit_rad) = violation_limit(self.length_scale, rtol, atol);
+        let mut worst: Option<(usize, f64)> = None;
+        for (k, phi) in work.constraints.phi.iter().enumerate() {
+            let value = phi.abs();
+            self.max_step_violation = self.max_step_violation.max(value);
+            let limit = if is_angle_row(self.constraints.sources()[k]) {
+                limit_rad
+            } else {
+                limit_m
+            };
+            // A NaN violation is a violation too.
+            if (value.is_nan() || value > limit) && worst.is_none_or(|(_, w)| value > w) {
+                worst = Some((k, value));
+            }
+        }
+        let Some((k, value)) = worst else {
+            return Ok(());
+        };
+        let angle = is_angle_row(self.constraints.sources()[k]);
+        Err(FormulationError::ConstraintViolation {
+            t,
+            constraint: self.constraints.row_name(&self.model, k),
+            value,
+            limit: if angle { limit_rad } else { limit_m },
+            unit: if angle { "rad" } else { "m" },
+            bound: if angle {
+                format!(
+                    "min(0.1, max(1e-3, {VIOLATION_FACTOR}·(rtol + atol))) with rtol = {rtol:e}, atol = {atol:e}"
+                )
+            } else {
+                format!(
+                    "min(0.1 L, max(1e-3 L, {VIOLATION_FACTOR}·(rtol·L + atol))) with the length scale L = {:.3e} m, rtol = {rtol:e}, atol = {atol:e}",
+                    self.length_scale
+                )
+            },
+        })
     }
 
     /// The grazing guard of the free clearance joints (∞ without clearance joints).

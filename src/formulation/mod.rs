@@ -109,6 +109,21 @@ pub trait Formulation {
     fn max_step(&self, _t: f64, _y: &[f64]) -> f64 {
         f64::INFINITY
     }
+
+    /// Called by the driver at the end of every accepted step, with the new state (t, y) and
+    /// the tolerances `rtol`, `atol` the step was accepted with, before the step is handed to
+    /// events and samples. A formulation checks here what must hold at every step, not only at
+    /// the output samples (the DAE: the constraint violation |Φ| within its bound), and keeps
+    /// running maxima. An error stops the run at t. Default: nothing.
+    fn accept_step(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _rtol: f64,
+        _atol: f64,
+    ) -> Result<(), FormulationError> {
+        Ok(())
+    }
 }
 
 /// Output columns a formulation can report at a sample (t, y): body states, reactions, torques,
@@ -120,6 +135,13 @@ pub trait Outputs {
     /// Writes the columns at (t, y) into `out` (cleared first) and returns the largest
     /// constraint violation |Φ| at that sample (0 for formulations without constraints).
     fn outputs_into(&self, t: f64, y: &[f64], out: &mut Vec<f64>) -> Result<f64, FormulationError>;
+
+    /// Largest constraint violation |Φ| over the accepted step ends seen so far by
+    /// [`Formulation::accept_step`] (m or rad; 0 for formulations without constraints).
+    /// Default: 0.
+    fn step_constraint_violation(&self) -> f64 {
+        0.0
+    }
 }
 
 /// Errors raised while building or evaluating a formulation.
@@ -171,6 +193,40 @@ pub enum FormulationError {
         penetration: f64,
         /// The limit 0.1 R_J (m).
         limit: f64,
+    },
+    /// The constraint violation at an accepted step end exceeded its bound (see
+    /// [`dae::violation_limit`]): the trajectory has left the linkage's configuration space
+    /// and no result computed from it can be trusted.
+    #[error(
+        "constraint \"{constraint}\" is violated by |Φ| = {value:.3e} {unit} at t = {t:.9} s, beyond the bound {limit:.3e} {unit} ({bound}): the motion no longer satisfies the joints; tighten rtol/atol, raise the Baumgarte factors, or check that the linkage can move as driven"
+    )]
+    ConstraintViolation {
+        /// Time of the step end (s).
+        t: f64,
+        /// Joint row ("A.x") or driver name.
+        constraint: String,
+        /// |Φ| of that row (m or rad).
+        value: f64,
+        /// The bound (m or rad).
+        limit: f64,
+        /// "m" for position rows, "rad" for angle rows.
+        unit: &'static str,
+        /// How the bound was formed (the length scale and tolerances).
+        bound: String,
+    },
+    /// A constraint row conflicts with others at t = 0: a driver that is a combination of the
+    /// other rows (it cannot be enforced independently), or a dependent row whose prescribed
+    /// velocity or acceleration contradicts the rows it depends on.
+    #[error(
+        "conflicting constraints at t = 0: \"{row}\" depends on {depends_on}, and {reason}; remove one of them or fix the geometry"
+    )]
+    ConflictingConstraints {
+        /// The dependent row (joint row "A.x" or driver name).
+        row: String,
+        /// The rows it is a combination of, quoted and comma-separated.
+        depends_on: String,
+        /// Why that is a conflict.
+        reason: String,
     },
     /// The model does not fit this formulation.
     #[error("{formulation} formulation: {reason}")]

@@ -27,8 +27,10 @@ pub struct RunSummary {
     pub sink_time_s: f64,
     /// Number of output samples.
     pub samples: usize,
-    /// Largest constraint violation |Φ| over the samples (m or rad; 0 for the reduced
-    /// formulation).
+    /// Largest constraint violation |Φ| over the output samples and every accepted step end
+    /// (m or rad; 0 for the reduced formulation). A DAE run whose |Φ| passes the bound of
+    /// [`violation_limit`](crate::formulation::dae::violation_limit) at a step end stops with
+    /// an error instead.
     pub max_constraint_violation: f64,
     /// Per clearance joint, in model order: impact count and log, separations, first impact
     /// times, true largest penetration and peak normal force, permanent contact.

@@ -3,7 +3,8 @@
 //! The method (chosen by [`SolverOptions::method`]) owns stepping, error control and dense
 //! output; the driver owns everything around it: the clamps of the step size, events and
 //! restarts, the limits (`max_steps`, `max_wall`, the no-progress rule of `progress.rs`, the
-//! step floor) and NaN checks (see [`Integrator`] for the contract).
+//! step floor), NaN checks and the formulation's check of every accepted step end
+//! ([`Formulation::accept_step`]) (see [`Integrator`] for the contract).
 //!
 //! Each call of [`Stepper::step`] says why it stopped ([`Stop`]). After it returns, the
 //! trajectory is final up to [`Stepper::t_reached`] and the dense output of the last step can be
@@ -408,6 +409,10 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                     component,
                 });
             }
+            // What must hold at every accepted step, not only at samples (the DAE's |Φ|).
+            self.f
+                .accept_step(t_new, y_new, self.opts.rtol, self.opts.atol)
+                .map_err(|source| SolveError::Formulation { t: t_new, source })?;
             std::mem::swap(&mut self.y_old, &mut self.y);
             self.y.copy_from_slice(y_new);
             self.t_old = t;
