@@ -11,6 +11,7 @@ mod compare;
 mod interrupt;
 mod progress;
 mod run;
+mod stress;
 
 use clap::{Parser, Subcommand};
 use linkdyn::Error;
@@ -36,6 +37,8 @@ enum Command {
     Run(run::RunArgs),
     /// Run the DAE and the reduced formulation with the same settings; print their differences.
     Compare(compare::CompareArgs),
+    /// Stiff and extreme cases × formulations × methods with a verdict each (ok, slow, failed, refused).
+    Stress(stress::StressArgs),
 }
 
 /// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
@@ -174,6 +177,7 @@ pub fn main() -> ExitCode {
         Command::Check(args) => check::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Stress(args) => stress::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
