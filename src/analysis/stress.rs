@@ -596,7 +596,7 @@ pub fn run_case(case: &StressCase, options: &StressOptions) -> Vec<StressCell> {
         let angle_bound = options.bounds.angle(spec.rtol);
         let mut problems = Vec::new();
         if let Some(r) = energy_residual
-            && !(r <= options.bounds.energy_residual)
+            && (r.is_nan() || r > options.bounds.energy_residual)
         {
             problems.push(format!(
                 "energy residual {r:.2e} above the bound {:.0e}",
@@ -604,7 +604,7 @@ pub fn run_case(case: &StressCase, options: &StressOptions) -> Vec<StressCell> {
             ));
         }
         if let Some(d) = max_angle_difference
-            && !(d <= angle_bound)
+            && (d.is_nan() || d > angle_bound)
         {
             let impacts: usize = summary.clearance_joints.iter().map(|j| j.impacts).sum();
             let separated = if reference_impacts != Some(impacts) {
