@@ -28,7 +28,7 @@ use crate::model::{self, Model};
 use crate::simulation::{EndTime, FormulationKind, Simulation, SimulationOptions, Trajectory};
 use crate::solve::{Method, SolveError, SolverOptions};
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// The reference four-bar (DAE and reduced formulation).
@@ -680,11 +680,6 @@ pub fn run_stress(
         models,
         cells,
     }
-}
-
-/// The models directory of this crate's source tree (for tests and examples).
-pub fn shipped_models() -> &'static Path {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/models"))
 }
 
 #[cfg(test)]
