@@ -9,6 +9,7 @@
 //! | [`period`] | period-k verdict on a sequence of Poincaré points |
 //! | [`lyapunov`] | largest Lyapunov exponent (two trajectories, renormalisation) |
 //! | [`phase`] | phase-portrait data (value against rate) |
+//! | [`stress`] | stress table: extreme cases × formulations × methods, a verdict each |
 //! | [`sweep`] | parameter-sweep bookkeeping: grid, shards, resume, merge, parallel map |
 //! | [`error`] | [`AnalysisError`] |
 
@@ -19,6 +20,7 @@ pub mod period;
 pub mod phase;
 pub mod poincare;
 pub mod spectrum;
+pub mod stress;
 pub mod sweep;
 
 pub use compare::{

@@ -18,6 +18,7 @@ mod poincare;
 mod progress;
 mod run;
 mod spectrum;
+mod stress;
 
 use clap::{Parser, Subcommand};
 use linkdyn::Error;
@@ -58,6 +59,8 @@ enum Command {
     /// Draw a figure (PNG or SVG) from result CSV files: series, orbit, poincare, bifurcation,
     /// spectrum, phase, lyapunov.
     Plot(plot::PlotArgs),
+    /// Stiff and extreme cases × formulations × methods with a verdict each (ok, slow, failed, refused).
+    Stress(stress::StressArgs),
 }
 
 /// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
@@ -203,6 +206,7 @@ pub fn main() -> ExitCode {
         Command::Phase(args) => phase::run(&args),
         Command::Lyapunov(args) => lyapunov::run(&args),
         Command::Plot(args) => plot::run(&args),
+        Command::Stress(args) => stress::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

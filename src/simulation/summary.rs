@@ -84,8 +84,14 @@ pub struct EnergyBalance {
     pub dissipated: f64,
     /// max |driver + external work − ΔE − dissipated| over the samples.
     pub max_abs_residual: f64,
-    /// That residual relative to the largest of |driver work|, |external work| and kinetic
-    /// energy over the samples (the residual itself if all are 0).
+    /// That residual relative to the largest energy the balance adds up: the largest of
+    /// |driver work|, |external work|, kinetic energy and |potential energy| over the samples
+    /// (the residual itself if all are 0). The potential energy is in the scale because the
+    /// balance is computed from it: a system at rest (no work, no kinetic energy) has a
+    /// residual of a few rounding errors of V, which this reads as ~1e-16 rather than as
+    /// that rounding error over a kinetic energy of 1e-31 J (5e15 before this floor). |V|
+    /// depends on the datum (the ground origin in the shipped models): a datum far from the
+    /// linkage makes the ratio smaller than it should be.
     pub relative_residual: f64,
 }
 
@@ -121,6 +127,7 @@ impl JointTally {
 struct EnergyTally {
     balance: usize,
     kinetic: usize,
+    potential: Option<usize>,
     driver_work: usize,
     external_work: usize,
     dissipated: usize,
@@ -155,6 +162,7 @@ impl SummaryBuilder {
             Some(EnergyTally {
                 balance: index("energy.balance")?,
                 kinetic: index("energy.kinetic")?,
+                potential: index("energy.potential"),
                 driver_work: index("energy.driver_work")?,
                 external_work: index("energy.external_work")?,
                 dissipated: index("energy.dissipated")?,
@@ -278,7 +286,8 @@ impl SummaryBuilder {
                 .scale
                 .max(get(e.driver_work).abs())
                 .max(get(e.external_work).abs())
-                .max(get(e.kinetic).abs());
+                .max(get(e.kinetic).abs())
+                .max(e.potential.map_or(0.0, |k| get(k).abs()));
             e.last = Some([get(e.driver_work), get(e.external_work), get(e.dissipated)]);
         }
     }
@@ -581,5 +590,39 @@ mod tests {
         assert_eq!(e.max_abs_residual, 1e-6);
         // Scale: the kinetic energy 4 J is the largest magnitude seen.
         assert_eq!(e.relative_residual, 1e-6 / 4.0);
+    }
+
+    #[test]
+    fn a_system_at_rest_has_a_rounding_level_relative_residual() {
+        // A pendulum hanging at rest: no work, kinetic energy 1e-31 J from rounding, V = −2 J,
+        // balance residual 4.4e-16 J (two ulps of V). Against the kinetic energy alone this
+        // read 4.4e15; against |V| it is 2.2e-16, the rounding level it is.
+        let cols = names(&[
+            "energy.kinetic",
+            "energy.potential",
+            "energy.driver_work",
+            "energy.external_work",
+            "energy.dissipated",
+            "energy.balance",
+        ]);
+        let mut b = SummaryBuilder::new(&cols, &[]);
+        b.sample(&[0.0, -2.0, 0.0, 0.0, 0.0, 0.0], 0.0);
+        b.sample(&[1e-31, -2.0, 0.0, 0.0, 0.0, 4.4e-16], 0.0);
+        let source = crate::model::ModelSource {
+            path: String::new(),
+            sha256: String::new(),
+            overrides: vec![],
+        };
+        let s = b.finish(
+            super::super::provenance::provenance(&source, vec![]),
+            SolverOptions::default(),
+            SolverStats::default(),
+            0.0,
+            0.0,
+        );
+        let e = s
+            .energy_balance
+            .unwrap_or_else(|| panic!("energy balance expected"));
+        assert_eq!(e.relative_residual, 4.4e-16 / 2.0, "scale |V| = 2 J");
     }
 }
