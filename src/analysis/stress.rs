@@ -606,7 +606,11 @@ pub fn run_case(case: &StressCase, options: &StressOptions) -> Vec<StressCell> {
         if let Some(d) = max_angle_difference
             && (d.is_nan() || d > angle_bound)
         {
-            let impacts: usize = summary.clearance_joints.iter().map(|j| j.impact_count).sum();
+            let impacts: usize = summary
+                .clearance_joints
+                .iter()
+                .map(|j| j.impact_count)
+                .sum();
             let separated = if reference_impacts != Some(impacts) {
                 format!(
                     " (impacts {impacts} vs {} in the reference: the impact sequences separated)",
@@ -643,14 +647,26 @@ pub fn run_case(case: &StressCase, options: &StressOptions) -> Vec<StressCell> {
             verdict,
             wall_s: finished.wall_s,
             rhs_evals: Some(summary.solver_stats.rhs_evals),
-            impacts: Some(summary.clearance_joints.iter().map(|j| j.impact_count).sum()),
+            impacts: Some(
+                summary
+                    .clearance_joints
+                    .iter()
+                    .map(|j| j.impact_count)
+                    .sum(),
+            ),
             energy_residual,
             max_angle_difference,
             fraction_reached: Some(1.0),
             note,
         });
         if is_reference(spec) {
-            reference_impacts = Some(summary.clearance_joints.iter().map(|j| j.impact_count).sum());
+            reference_impacts = Some(
+                summary
+                    .clearance_joints
+                    .iter()
+                    .map(|j| j.impact_count)
+                    .sum(),
+            );
             reference = Some(finished.trajectory);
         }
     }
