@@ -1,7 +1,8 @@
 //! Every file in tests/bad_models/ is refused by `linkdyn check` with exit code 2 and exactly the
 //! one-line message below (file, line:column, field, what was expected), never a panic.
 
-use std::process::Command;
+mod cli_common;
+use cli_common::linkdyn;
 
 const CASES: &[(&str, &str)] = &[
     (
@@ -193,19 +194,6 @@ const CASES: &[(&str, &str)] = &[
         "tests/bad_models/zero_inertia.toml:11:11: bodies.crank.inertia: expected a positive moment of inertia (kg·m²), found 0",
     ),
 ];
-
-fn linkdyn(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_linkdyn"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 #[test]
 fn each_bad_model_is_refused_with_its_exact_message_and_exit_code_2() {

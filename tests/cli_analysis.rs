@@ -6,23 +6,11 @@
 //! negative largest Lyapunov exponent and period one).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_linkdyn");
+mod cli_common;
+use cli_common::linkdyn;
+
 const MODEL: &str = "models/farahan2016.toml";
-
-fn linkdyn(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(BIN)
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 /// Runs linkdyn and fails the test unless it exits 0; returns stdout.
 fn ok(args: &[&str]) -> String {

@@ -6,20 +6,9 @@
 use linkdyn::analysis::stress::{FOURBAR, cases};
 use linkdyn::solve::Method;
 use std::path::PathBuf;
-use std::process::Command;
 
-fn linkdyn(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_linkdyn"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod cli_common;
+use cli_common::linkdyn;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("linkdyn-stress-{name}-{}", std::process::id()));
