@@ -12,8 +12,14 @@ use proptest::prelude::*;
 
 proptest! {
     // 64 mutants: about 2 s in release on 2 cores (most runs end in milliseconds; a run
-    // that integrates stops at --max-wall 5 at worst).
-    #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
+    // that integrates stops at --max-wall 5 at worst). A fixed RNG seed keeps CI reproducible;
+    // the seeded example (`examples/hostile.rs`) explores other seeds.
+    #![proptest_config(ProptestConfig {
+        cases: 64,
+        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x11_4d_7a),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn a_mutated_model_never_panics_hangs_or_lies(seed in any::<u64>()) {

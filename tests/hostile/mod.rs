@@ -316,8 +316,8 @@ pub fn check(binary: &Path, scratch: &Path, m: &Mutant) -> Result<i32, String> {
     verdict
 }
 
-/// Exit 0: exactly the two result files, a CSV ending in a whole line, a JSON that parses, and
-/// a constraint violation within the bound.
+/// Exit 0: exactly the three result files (CSV, JSON summary, impact log), a CSV ending in a
+/// whole line, a JSON that parses, and a constraint violation within the bound.
 fn whole_results(
     model: &Path,
     csv: &Path,
@@ -325,7 +325,8 @@ fn whole_results(
     left: &[PathBuf],
 ) -> Result<i32, String> {
     let json = csv.with_extension("json");
-    if left.len() != 2 || !csv.exists() || !json.exists() {
+    let impacts = csv.with_extension("impacts.csv");
+    if left.len() != 3 || !csv.exists() || !json.exists() || !impacts.exists() {
         return Err(format!("exit 0 but the output directory holds {left:?}"));
     }
     let text = std::fs::read_to_string(csv).map_err(|e| format!("csv: {e}"))?;
