@@ -262,13 +262,15 @@ impl PyModel {
         // Everything from the settings check to the last sample runs without the GIL: other
         // Python threads (and other runs) go on meanwhile.
         let (run, clearance) = py
-            .detach(|| -> Result<_, (Error, bool)> {
-                let options = settings.options().map_err(|e| (e, false))?;
-                let sim = Simulation::new(model, options).map_err(|e| (e, true))?;
-                let run = sim.run_to_memory().map_err(|e| (e, false))?;
+            // The error is boxed: `linkdyn::Error` is large and the Ok path should not pay for it.
+            .detach(|| -> Result<_, Box<(Error, bool)>> {
+                let options = settings.options().map_err(|e| Box::new((e, false)))?;
+                let sim = Simulation::new(model, options).map_err(|e| Box::new((e, true)))?;
+                let run = sim.run_to_memory().map_err(|e| Box::new((e, false)))?;
                 Ok((run, sim.clearance_joints().to_vec()))
             })
-            .map_err(|(e, building)| {
+            .map_err(|failure| {
+                let (e, building) = *failure;
                 errors::to_py(py, e, building.then_some(self.path.as_str()))
             })?;
         PyResult_::new(py, run, clearance)
