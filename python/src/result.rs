@@ -2,7 +2,9 @@
 
 use crate::errors;
 use linkdyn::formulation::Crossing;
-use linkdyn::output::{CsvSink, ResultPair, check_npz_size, write_npz};
+use linkdyn::output::{
+    CsvSink, ResultPair, check_npz_size, impacts_csv, impacts_path, write_npz,
+};
 use linkdyn::simulation::{Columns, RunSummary, Sample, SampleSink, Trajectory};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyImportError, PyKeyError};
@@ -229,7 +231,8 @@ impl PyResult_ {
             }
             // The model file itself is never a target (as on the command line).
             let model = std::path::Path::new(&provenance.model.path);
-            let mut pair = ResultPair::begin(&path, Some(model))?;
+            // The same files as `linkdyn run`: data, summary and impact log, all or none.
+            let mut pair = ResultPair::begin_with(&path, Some(model), &[impacts_path(&path)])?;
             if npz {
                 write_npz(pair.csv().writer(), &path, provenance, names, &data)?;
             } else {
@@ -248,7 +251,7 @@ impl PyResult_ {
                     })?;
                 }
             }
-            pair.commit(summary)?;
+            pair.commit_with_files(summary, &[impacts_csv(provenance, summary)])?;
             Ok(())
         })
         .map_err(|e| match e {

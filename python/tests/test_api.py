@@ -53,12 +53,16 @@ def test_events_and_summary_agree(run):
     impacts = [e for e in run.events if e["kind"] == "impact"]
     separations = [e for e in run.events if e["kind"] == "separation"]
     assert joint["joint"] == "B" and all(e["joint"] == "B" for e in run.events)
-    assert (joint["impacts"], joint["separations"]) == (len(impacts), len(separations))
+    assert (joint["impact_count"], joint["separations"]) == (len(impacts), len(separations))
+    assert [i["t"] for i in joint["impacts"]] == [e["t"] for e in impacts], "the impact log"
     assert joint["first_impact_times"] == [e["t"] for e in impacts][:10]
     ts = [e["t"] for e in run.events]
     assert ts == sorted(ts), "events in time order"
-    assert joint["max_penetration"] == float(np.max(run["B.delta"]))
-    assert joint["peak_normal_force"] == float(np.max(run["B.fn"]))
+    # True peaks, located on the dense output: never below the samples' maxima, and the
+    # largest of the per-impact peaks of the log.
+    assert joint["max_penetration"] >= float(np.max(run["B.delta"]))
+    assert joint["peak_normal_force"] >= float(np.max(run["B.fn"]))
+    assert joint["peak_normal_force"] == max(i["peak_normal_force"] for i in joint["impacts"])
     assert s["max_constraint_violation"] == float(np.max(run.constraint_violation))
     assert s["provenance"]["settings"]["method"] == "dop853"
     assert s["solver_stats"]["steps"] > 0

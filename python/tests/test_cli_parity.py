@@ -86,7 +86,10 @@ def test_saved_csv_is_the_cli_s_byte_for_byte(cli, tmp_path):
     # The version line may differ (see summaries_match); every other byte may not.
     strip = lambda p: [l for l in p.read_text().splitlines() if not l.startswith("# linkdyn ")]
     assert strip(mine) == strip(out)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["cli.csv", "cli.json", "py.csv", "py.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "cli.csv", "cli.impacts.csv", "cli.json", "py.csv", "py.impacts.csv", "py.json"]
+    # The impact logs agree too, apart from the version line.
+    assert strip(tmp_path / "py.impacts.csv") == strip(tmp_path / "cli.impacts.csv")
 
 
 def test_set_overrides_reach_the_model_and_the_provenance():
