@@ -2,9 +2,7 @@
 
 use crate::errors;
 use linkdyn::formulation::Crossing;
-use linkdyn::output::{
-    CsvSink, ResultPair, check_npz_size, impacts_csv, impacts_path, write_npz,
-};
+use linkdyn::output::{CsvSink, ResultPair, check_npz_size, impacts_csv, impacts_path, write_npz};
 use linkdyn::simulation::{Columns, RunSummary, Sample, SampleSink, Trajectory};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyImportError, PyKeyError};
