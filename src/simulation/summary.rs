@@ -568,18 +568,7 @@ mod tests {
         b.sample(&[0.0, 0.0, 0.0, 0.0, 0.0], 0.0);
         b.sample(&[4.0, 2.0, -1.0, 0.5, -1e-6], 0.0);
         b.sample(&[1.0, 3.0, -1.0, 1.0, 2e-7], 0.0);
-        let source = crate::model::ModelSource {
-            path: String::new(),
-            sha256: String::new(),
-            overrides: vec![],
-        };
-        let s = b.finish(
-            super::super::provenance::provenance(&source, vec![]),
-            SolverOptions::default(),
-            SolverStats::default(),
-            0.0,
-            0.0,
-        );
+        let s = finish(&b);
         let e = s
             .energy_balance
             .unwrap_or_else(|| panic!("energy balance expected"));
@@ -608,18 +597,7 @@ mod tests {
         let mut b = SummaryBuilder::new(&cols, &[]);
         b.sample(&[0.0, -2.0, 0.0, 0.0, 0.0, 0.0], 0.0);
         b.sample(&[1e-31, -2.0, 0.0, 0.0, 0.0, 4.4e-16], 0.0);
-        let source = crate::model::ModelSource {
-            path: String::new(),
-            sha256: String::new(),
-            overrides: vec![],
-        };
-        let s = b.finish(
-            super::super::provenance::provenance(&source, vec![]),
-            SolverOptions::default(),
-            SolverStats::default(),
-            0.0,
-            0.0,
-        );
+        let s = finish(&b);
         let e = s
             .energy_balance
             .unwrap_or_else(|| panic!("energy balance expected"));
