@@ -10,10 +10,17 @@ exception              raised for                                  also a      C
                        validated or assembled; a bad ``set=``
 :class:`SettingsError` a run setting out of range or not fitting   ValueError  2
                        the model (``dt``, ``t_end``, ``rtol`` ...)
-:class:`SolverError`   a failed integration                        RuntimeError  3
+:class:`SolverError`   a failed integration (in an analysis too)   RuntimeError  3
+:class:`AnalysisError` an analysis that cannot be done on the      ValueError  2
+                       given data (too few samples, a bad
+                       parameter grid or shard)
 :class:`OutputError`   a result file or sink that cannot be        OSError     4
                        written
 =====================  ==========================================  ==========  =============
+
+A failed point of a sweep (``Model.bifurcation``) raises the class of its error with the
+message prefixed ``point I (PARAM = VALUE): `` and the attributes ``point`` (0-based index)
+and ``parameter`` (the value).
 """
 
 from typing import Optional
@@ -54,6 +61,12 @@ class SolverError(LinkdynError, RuntimeError):
     time: Optional[float] = None
 
 
+class AnalysisError(LinkdynError, ValueError):
+    """An analysis that cannot be done with the data or options given: a window with too few
+    samples, a non-finite value, a parameter grid whose ends are not finite or that has 0
+    steps between different ends, a bad shard."""
+
+
 class OutputError(LinkdynError, OSError):
     """A result file (or a sample sink) that cannot be written. Attribute ``time``: the time
     of the sample being written (s), where known."""
@@ -61,4 +74,11 @@ class OutputError(LinkdynError, OSError):
     time: Optional[float] = None
 
 
-__all__ = ["LinkdynError", "ModelError", "SettingsError", "SolverError", "OutputError"]
+__all__ = [
+    "LinkdynError",
+    "ModelError",
+    "SettingsError",
+    "SolverError",
+    "AnalysisError",
+    "OutputError",
+]

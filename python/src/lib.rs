@@ -2,13 +2,17 @@
 //!
 //! Thin bindings over [`linkdyn::simulation`]: [`load`] reads a model (with `--set`-style
 //! overrides) into a [`model::PyModel`], whose `run` integrates it with the GIL released and
-//! returns a [`result::PyResult_`] of NumPy arrays. Errors become the exception classes of
+//! returns a [`result::PyResult_`] of NumPy arrays; its analyses ([`analyses`], [`sweep`])
+//! return the records of `linkdyn._analyses`. Errors become the exception classes of
 //! `linkdyn._errors` with the command line's messages ([`errors`]). The Python-facing API,
 //! its defaults and its documentation live in `linkdyn/__init__.py` and `linkdyn/_linkdyn.pyi`.
 
+mod analyses;
 mod errors;
 mod model;
 mod result;
+mod settings;
+mod sweep;
 
 use pyo3::prelude::*;
 

@@ -1,12 +1,16 @@
-//! `linkdyn.Model`: a loaded, validated model; `run` integrates it with the GIL released.
+//! `linkdyn.Model`: a loaded, validated model; `run` integrates it and the analyses
+//! (`poincare`, `bifurcation`, `spectrum`, `phase`, `lyapunov`) run on it, all with the GIL
+//! released.
 
-use crate::errors;
+use crate::analyses::{self, LyapunovArgs, PoincareArgs, WindowArgs};
+use crate::errors::{self, Failed};
 use crate::result::PyResult_;
+use crate::settings::{Solve, columns};
+use crate::sweep::{self, Progress, SweepArgs};
 use linkdyn::Error;
 use linkdyn::formulation::{Dae, DaeOptions};
 use linkdyn::model::{ForceElement, JointKind, Model};
-use linkdyn::simulation::{FormulationKind, Simulation, SimulationOptions};
-use linkdyn::solve::{Method, SolveError, SolverOptions};
+use linkdyn::simulation::Simulation;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -21,47 +25,6 @@ impl PyModel {
     /// Wraps a loaded model; `path` is the file as the caller gave it (for messages).
     pub fn new(model: Model, path: String) -> Self {
         PyModel { model, path }
-    }
-}
-
-/// Settings of one run, as given from Python.
-struct RunSettings {
-    t_end: Option<f64>,
-    revs: Option<f64>,
-    dt: f64,
-    formulation: String,
-    method: String,
-    rtol: f64,
-    atol: f64,
-    energy: bool,
-    max_steps: u64,
-}
-
-impl RunSettings {
-    /// The library's options, checked in the command line's order (method, end time, then
-    /// everything else in `Simulation::new`).
-    fn options(&self) -> Result<SimulationOptions, Error> {
-        let method: Method = self.method.parse().map_err(|e| match e {
-            SolveError::InvalidOption { option, reason } => Error::Settings { option, reason },
-            other => Error::Solve(other),
-        })?;
-        let formulation: FormulationKind = self.formulation.parse()?;
-        let solver = SolverOptions::default()
-            .method(method)
-            .rtol(self.rtol)
-            .atol(self.atol)
-            .max_steps(self.max_steps);
-        let options = SimulationOptions::default()
-            .dt(self.dt)
-            .solver(solver)
-            .formulation(formulation)
-            .energy(self.energy);
-        match (self.t_end, self.revs) {
-            (Some(_), Some(_)) => Err(Error::settings("revs", "give `t_end` or `revs`, not both")),
-            (Some(t), None) => Ok(options.t_end(t)),
-            (None, Some(turns)) => Ok(options.revs(turns)),
-            (None, None) => Ok(options),
-        }
     }
 }
 
@@ -232,7 +195,7 @@ impl PyModel {
     /// Integrates the model and keeps every sample in memory (see `linkdyn.Model.run`).
     #[pyo3(signature = (*, t_end = None, revs = None, dt = 1e-4, formulation = "dae".to_string(),
         method = "dop853".to_string(), rtol = 1e-8, atol = 1e-10, energy = false,
-        max_steps = 10_000_000))]
+        max_steps = 10_000_000, max_wall = None))]
     #[allow(clippy::too_many_arguments)]
     fn run(
         &self,
@@ -246,34 +209,239 @@ impl PyModel {
         atol: f64,
         energy: bool,
         max_steps: u64,
+        max_wall: Option<f64>,
     ) -> PyResult<PyResult_> {
-        let settings = RunSettings {
-            t_end,
-            revs,
+        let solve = Solve {
             dt,
             formulation,
             method,
             rtol,
             atol,
-            energy,
             max_steps,
+            max_wall,
         };
         let model = &self.model;
         // Everything from the settings check to the last sample runs without the GIL: other
         // Python threads (and other runs) go on meanwhile.
         let (run, clearance) = py
-            // The error is boxed: `linkdyn::Error` is large and the Ok path should not pay for it.
-            .detach(|| -> Result<_, Box<(Error, bool)>> {
-                let options = settings.options().map_err(|e| Box::new((e, false)))?;
-                let sim = Simulation::new(model, options).map_err(|e| Box::new((e, true)))?;
-                let run = sim.run_to_memory().map_err(|e| Box::new((e, false)))?;
+            .detach(|| -> Result<_, Failed> {
+                // Checked in the command line's order: method, end time, then everything else
+                // in `Simulation::new`.
+                let options = solve.options()?.energy(energy);
+                let options = match (t_end, revs) {
+                    (Some(_), Some(_)) => {
+                        return Err(
+                            Error::settings("revs", "give `t_end` or `revs`, not both").into()
+                        );
+                    }
+                    (Some(t), None) => options.t_end(t),
+                    (None, Some(turns)) => options.revs(turns),
+                    (None, None) => options,
+                };
+                let sim = Simulation::new(model, options).map_err(Failed::building)?;
+                let run = sim.run_to_memory()?;
                 Ok((run, sim.clearance_joints().to_vec()))
             })
-            .map_err(|failure| {
-                let (e, building) = *failure;
-                errors::to_py(py, e, building.then_some(self.path.as_str()))
-            })?;
+            .map_err(|f| f.into_py(py, &self.path))?;
         PyResult_::new(py, run, clearance)
+    }
+
+    /// Poincaré section once per driver turn with its period verdict (see
+    /// `linkdyn.Model.poincare`).
+    #[pyo3(signature = (*, revs = None, transient = 0, phase = 0.0, observe = None, dt = 1e-4,
+        formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
+        atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn poincare<'py>(
+        &self,
+        py: Python<'py>,
+        revs: Option<f64>,
+        transient: i64,
+        phase: f64,
+        observe: Option<&Bound<'py, PyAny>>,
+        dt: f64,
+        formulation: String,
+        method: String,
+        rtol: f64,
+        atol: f64,
+        max_steps: u64,
+        max_wall: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let solve = Solve {
+            dt,
+            formulation,
+            method,
+            rtol,
+            atol,
+            max_steps,
+            max_wall,
+        };
+        let args = PoincareArgs {
+            revs,
+            transient,
+            phase,
+            observe: columns(observe)?,
+        };
+        analyses::poincare(py, &self.model, &self.path, &solve, args)
+    }
+
+    /// Bifurcation diagram: a model field swept over a grid, one section of `observe` per
+    /// point, points in parallel (see `linkdyn.Model.bifurcation`).
+    #[pyo3(signature = (param, observe, *, from_ = None, to = None, steps = None, values = None,
+        revs = None, transient = 100, phase = 0.0, threads = None, shard = None,
+        progress = Progress::Flag(true), dt = 1e-4, formulation = "dae".to_string(),
+        method = "dop853".to_string(), rtol = 1e-8, atol = 1e-10, max_steps = 10_000_000,
+        max_wall = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn bifurcation<'py>(
+        &self,
+        py: Python<'py>,
+        param: String,
+        observe: String,
+        from_: Option<f64>,
+        to: Option<f64>,
+        steps: Option<i64>,
+        values: Option<Vec<f64>>,
+        revs: Option<f64>,
+        transient: i64,
+        phase: f64,
+        threads: Option<i64>,
+        shard: Option<String>,
+        progress: Progress,
+        dt: f64,
+        formulation: String,
+        method: String,
+        rtol: f64,
+        atol: f64,
+        max_steps: u64,
+        max_wall: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let solve = Solve {
+            dt,
+            formulation,
+            method,
+            rtol,
+            atol,
+            max_steps,
+            max_wall,
+        };
+        let args = SweepArgs {
+            param,
+            observe,
+            from: from_,
+            to,
+            steps,
+            values,
+            revs,
+            transient,
+            phase,
+            threads,
+            shard,
+        };
+        sweep::bifurcation(py, &self.model, &self.path, &solve, args, progress)
+    }
+
+    /// Amplitude spectrum of an output column after the transient (see
+    /// `linkdyn.Model.spectrum`).
+    #[pyo3(signature = (observe, *, revs = None, transient = 0.0, dt = 1e-4,
+        formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
+        atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn spectrum<'py>(
+        &self,
+        py: Python<'py>,
+        observe: String,
+        revs: Option<f64>,
+        transient: f64,
+        dt: f64,
+        formulation: String,
+        method: String,
+        rtol: f64,
+        atol: f64,
+        max_steps: u64,
+        max_wall: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let solve = Solve {
+            dt,
+            formulation,
+            method,
+            rtol,
+            atol,
+            max_steps,
+            max_wall,
+        };
+        let window = WindowArgs { revs, transient };
+        analyses::spectrum(py, &self.model, &self.path, &solve, observe, window)
+    }
+
+    /// Phase-portrait data of an output column after the transient (see
+    /// `linkdyn.Model.phase`).
+    #[pyo3(signature = (observe, *, revs = None, transient = 0.0, dt = 1e-4,
+        formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
+        atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn phase<'py>(
+        &self,
+        py: Python<'py>,
+        observe: String,
+        revs: Option<f64>,
+        transient: f64,
+        dt: f64,
+        formulation: String,
+        method: String,
+        rtol: f64,
+        atol: f64,
+        max_steps: u64,
+        max_wall: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let solve = Solve {
+            dt,
+            formulation,
+            method,
+            rtol,
+            atol,
+            max_steps,
+            max_wall,
+        };
+        let window = WindowArgs { revs, transient };
+        analyses::phase(py, &self.model, &self.path, &solve, observe, window)
+    }
+
+    /// Largest Lyapunov exponent with its convergence (see `linkdyn.Model.lyapunov`).
+    #[pyo3(signature = (*, revs = None, transient = 0.0, d0 = 1e-7, renormalise_every_revs = 1.0,
+        dt = 1e-4, formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
+        atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn lyapunov<'py>(
+        &self,
+        py: Python<'py>,
+        revs: Option<f64>,
+        transient: f64,
+        d0: f64,
+        renormalise_every_revs: f64,
+        dt: f64,
+        formulation: String,
+        method: String,
+        rtol: f64,
+        atol: f64,
+        max_steps: u64,
+        max_wall: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let solve = Solve {
+            dt,
+            formulation,
+            method,
+            rtol,
+            atol,
+            max_steps,
+            max_wall,
+        };
+        let window = WindowArgs { revs, transient };
+        let args = LyapunovArgs {
+            d0,
+            renormalise_every_revs,
+        };
+        analyses::lyapunov(py, &self.model, &self.path, &solve, window, args)
     }
 
     fn __repr__(&self) -> String {

@@ -1,0 +1,98 @@
+"""Progress of a sweep (``Model.bifurcation(progress=...)``).
+
+The compiled core calls ``update(done)`` from the calling thread, between points, holding the
+GIL only for that call (the points run on Rust threads without it), and ``close()`` at the end,
+also after an error or an interrupt.
+"""
+
+import sys
+import time
+from typing import Any, Callable
+
+
+class _Silent:
+    def update(self, done: int) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+class _Callback:
+    """A user's ``progress(done, total)``."""
+
+    def __init__(self, f: Callable[[int, int], Any], total: int) -> None:
+        self.f, self.total = f, total
+
+    def update(self, done: int) -> None:
+        self.f(done, self.total)
+
+    def close(self) -> None:
+        pass
+
+
+class _Tqdm:
+    def __init__(self, bar: Any) -> None:
+        self.bar, self.done = bar, 0
+
+    def update(self, done: int) -> None:
+        self.bar.update(done - self.done)
+        self.done = done
+
+    def close(self) -> None:
+        self.bar.close()
+
+
+class _Line:
+    """Without tqdm: one line on stderr, redrawn in place on a terminal (at most 10 times a
+    second), else a new line at most every 10 s, and always a last one."""
+
+    def __init__(self, total: int, description: str) -> None:
+        self.total, self.description = total, description
+        self.started = time.monotonic()
+        self.shown = 0.0
+        self.done = 0
+        self.terminal = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+
+    def _text(self) -> str:
+        elapsed = time.monotonic() - self.started
+        text = f"{self.description}: {self.done}/{self.total} points, {elapsed:.0f} s"
+        if 0 < self.done < self.total:
+            text += f", ~{elapsed * (self.total - self.done) / self.done:.0f} s left"
+        return text
+
+    def update(self, done: int) -> None:
+        self.done = done
+        now = time.monotonic()
+        if now - self.shown < (0.1 if self.terminal else 10.0):
+            return
+        self.shown = now
+        if self.terminal:
+            sys.stderr.write("\r" + self._text() + "\x1b[K")
+        else:
+            sys.stderr.write(self._text() + "\n")
+        sys.stderr.flush()
+
+    def close(self) -> None:
+        sys.stderr.write(("\r" if self.terminal else "") + self._text() + "\n")
+        sys.stderr.flush()
+
+
+def reporter(progress: Any, total: int, description: str) -> Any:
+    """The progress display for ``progress=``: ``True`` a tqdm bar (a line on stderr without
+    tqdm), ``False`` or ``None`` nothing, a callable ``progress(done, total)`` called after each
+    point."""
+    if progress is None or progress is False:
+        return _Silent()
+    if progress is True:
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            return _Line(total, description)
+        return _Tqdm(tqdm(total=total, desc=description, unit="point"))
+    if callable(progress):
+        return _Callback(progress, total)
+    raise TypeError(
+        "progress=: expected True, False, None or a callable progress(done, total), "
+        f"got {type(progress).__name__}"
+    )

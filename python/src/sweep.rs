@@ -1,0 +1,405 @@
+//! `Model.bifurcation`: the command line's `linkdyn bifurcation` (`src/cli/bifurcation.rs`)
+//! without its files: the same checks in the same order, the same points (the library's
+//! [`Sweep`] on rayon threads through [`analysis::run_points`]), returned as arrays.
+//!
+//! # Threads and the GIL
+//! The points run on a rayon pool started from a scoped thread; none of them touches Python.
+//! The calling thread waits for them without the GIL (other Python threads run meanwhile) and
+//! takes it briefly at most every [`POLL`] and after each finished point: to update the
+//! progress display and to let Python handle signals. Ctrl-C (or an exception from a progress
+//! callback) stops the sweep: points not yet started are skipped, the points in flight finish
+//! (a point cannot be cut short), then the exception is raised.
+
+use crate::analyses::{floats, ints, provenance, record};
+use crate::errors::{self, Failed};
+use crate::settings::{Solve, whole_transient, whole_turns};
+use linkdyn::Error;
+use linkdyn::analysis::{self, AnalysisError, ParameterGrid, PeriodVerdict, Shard, SweepPoint};
+use linkdyn::model::Model;
+use linkdyn::output::format_number;
+use linkdyn::simulation::Simulation;
+use linkdyn::simulation::analyses::{SectionSpec, Sweep, SweepResult};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict};
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Condvar, Mutex, PoisonError};
+use std::time::Duration;
+
+/// Longest wait without looking at signals and progress.
+const POLL: Duration = Duration::from_millis(100);
+
+/// `progress=`: `True`/`False`, or anything else (None, a callable), judged by
+/// `linkdyn._progress.reporter`.
+#[derive(FromPyObject)]
+pub enum Progress {
+    Flag(bool),
+    Other(Py<PyAny>),
+}
+
+/// Options of `Model.bifurcation` beyond the solve settings.
+pub struct SweepArgs {
+    pub param: String,
+    pub observe: String,
+    pub from: Option<f64>,
+    pub to: Option<f64>,
+    pub steps: Option<i64>,
+    pub values: Option<Vec<f64>>,
+    pub revs: Option<f64>,
+    pub transient: i64,
+    pub phase: f64,
+    pub threads: Option<i64>,
+    pub shard: Option<String>,
+}
+
+/// Settings by name, as on the command line's `#` provenance lines.
+type Settings = Vec<(&'static str, String)>;
+
+/// A checked sweep, ready to run.
+struct Plan {
+    turns: usize,
+    transient: usize,
+    /// The grid the points are indexed by (for `values=`, 0..n − 1: indices only).
+    grid: ParameterGrid,
+    /// The parameter value of each grid index.
+    values: Vec<f64>,
+    /// The grid indices to run (the shard's, ascending).
+    indices: Vec<usize>,
+    options: linkdyn::simulation::SimulationOptions,
+    /// The sweep's settings for the provenance (as the command line's `#` lines).
+    settings: Settings,
+    provenance: linkdyn::output::Provenance,
+    pool: rayon::ThreadPool,
+}
+
+impl SweepArgs {
+    /// The grid and the parameter value of each index: `from`/`to`/`steps` as the command line
+    /// takes them, or explicit `values`.
+    fn grid(&self) -> Result<(ParameterGrid, Vec<f64>, Settings), Failed> {
+        let grid_given = self.from.is_some() || self.to.is_some() || self.steps.is_some();
+        match (&self.values, self.from, self.to, self.steps) {
+            (Some(_), ..) if grid_given => Err(Error::settings(
+                "values",
+                "give `values` or `from_`, `to` and `steps`, not both",
+            )
+            .into()),
+            (Some(values), ..) => {
+                if values.is_empty() {
+                    return Err(Error::settings("values", "expected at least one value").into());
+                }
+                if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+                    return Err(Error::settings(
+                        "values",
+                        format!("expected finite values, got {v} at position {i}"),
+                    )
+                    .into());
+                }
+                let last = values.len() - 1;
+                let grid = ParameterGrid::new(0.0, last as f64, last)?;
+                let text: Vec<String> = values.iter().map(|&v| format_number(v)).collect();
+                Ok((grid, values.clone(), vec![("values", text.join(","))]))
+            }
+            (None, Some(from), Some(to), Some(steps)) => {
+                let steps = usize::try_from(steps).map_err(|_| {
+                    Error::settings("steps", format!("expected a whole number ≥ 0, got {steps}"))
+                })?;
+                let grid = ParameterGrid::new(from, to, steps)?;
+                let settings = vec![
+                    ("from", format_number(from)),
+                    ("to", format_number(to)),
+                    ("steps", steps.to_string()),
+                ];
+                Ok((grid, grid.values(), settings))
+            }
+            (None, ..) => Err(Error::settings(
+                "steps",
+                "give the grid as `from_`, `to` and `steps` (or the points as `values`)",
+            )
+            .into()),
+        }
+    }
+
+    /// The sweep with `options` (the command line's [`Sweep`]).
+    fn sweep<'a>(&'a self, path: &'a str, model: &'a Model, plan: &'a Plan) -> Sweep<'a> {
+        Sweep {
+            model_path: Path::new(path),
+            overrides: &model.source.overrides,
+            parameter: &self.param,
+            grid: plan.grid,
+            options: plan.options.clone(),
+            section: SectionSpec {
+                turns: plan.turns,
+                transient: plan.transient,
+                phase: self.phase,
+                observe: vec![self.observe.clone()],
+            },
+        }
+    }
+
+    /// Every check of the command line, in its order, before any point runs.
+    fn plan(&self, model: &Model, path: &str, solve: &Solve) -> Result<Plan, Failed> {
+        let transient = whole_transient(self.transient)?;
+        let turns = whole_turns(self.revs, 150)?;
+        if turns <= transient {
+            return Err(Error::settings(
+                "revs",
+                format!("expected more turns than the {transient} transient turns, got {turns}"),
+            )
+            .into());
+        }
+        let (grid, values, grid_settings) = self.grid()?;
+        let options = solve.for_turns(turns as f64)?;
+        let base = Simulation::new(model, options.clone()).map_err(Failed::building)?;
+        let pool = {
+            let builder = rayon::ThreadPoolBuilder::new();
+            let builder = match self.threads {
+                Some(k) if k < 1 => {
+                    return Err(Error::settings(
+                        "threads",
+                        format!("expected at least 1 thread, got {k}"),
+                    )
+                    .into());
+                }
+                // Any count that fits in usize; rayon refuses what it cannot start.
+                Some(k) => builder.num_threads(usize::try_from(k).unwrap_or(usize::MAX)),
+                None => builder,
+            };
+            builder
+                .build()
+                .map_err(|e| Error::settings("threads", format!("cannot start the threads: {e}")))?
+        };
+        let indices = match &self.shard {
+            Some(s) => {
+                let shard: Shard = s.parse()?;
+                analysis::remaining(&grid, Some(&shard), &[])?
+            }
+            None => (0..grid.len()).collect(),
+        };
+        let mut settings = vec![("parameter", self.param.clone())];
+        settings.extend(grid_settings);
+        settings.extend([
+            ("revs", turns.to_string()),
+            ("transient_revs", transient.to_string()),
+            ("phase_rad", format_number(self.phase)),
+            ("observe", self.observe.clone()),
+        ]);
+        let plan = Plan {
+            turns,
+            transient,
+            grid,
+            values,
+            indices,
+            options,
+            settings,
+            provenance: base.provenance(),
+            pool,
+        };
+        // The first point's model and simulation, checked now (as the command line does): a
+        // bad `param` or value is reported before any work, naming the option.
+        let first_value = plan.values.first().copied().unwrap_or(0.0);
+        let first = self
+            .sweep(path, model, &plan)
+            .simulation(first_value)
+            .map_err(|e| Failed::prefixed(e, format!("param {}", self.param)))?;
+        if first.model().source.sha256 != model.source.sha256 {
+            return Err(Error::settings(
+                "param",
+                format!(
+                    "the model file {path} changed since it was loaded (SHA-256 {} then, {} now): each point reads it again, so load it again",
+                    model.source.sha256,
+                    first.model().source.sha256
+                ),
+            )
+            .into());
+        }
+        if !first.column_names().iter().any(|c| c == &self.observe) {
+            return Err(Error::settings(
+                "observe",
+                format!(
+                    "no output column \"{}\"; the columns are {}",
+                    self.observe,
+                    first.column_names().join(", ")
+                ),
+            )
+            .into());
+        }
+        Ok(plan)
+    }
+}
+
+/// What the points have done so far, shared between the workers and the waiting thread.
+#[derive(Default)]
+struct Progressed {
+    /// Points finished (failed ones included).
+    done: usize,
+    /// The first point to fail, in order of completion.
+    first_failure: Option<usize>,
+    /// `run_points` has returned.
+    finished: bool,
+}
+
+/// `Model.bifurcation` (`linkdyn bifurcation`).
+pub fn bifurcation<'py>(
+    py: Python<'py>,
+    model: &Model,
+    path: &str,
+    solve: &Solve,
+    a: SweepArgs,
+    progress: Progress,
+) -> PyResult<Bound<'py, PyAny>> {
+    let plan = py
+        .detach(|| a.plan(model, path, solve))
+        .map_err(|f| f.into_py(py, path))?;
+    let sweep = a.sweep(path, model, &plan);
+    let progress = match progress {
+        Progress::Flag(b) => PyBool::new(py, b).to_owned().into_any().unbind(),
+        Progress::Other(o) => o,
+    };
+    let reporter = py.import("linkdyn._progress")?.call_method1(
+        "reporter",
+        (
+            progress,
+            plan.indices.len(),
+            format!("bifurcation {}", a.param),
+        ),
+    )?;
+
+    let state = Mutex::new(Progressed::default());
+    let changed = Condvar::new();
+    let stop = AtomicBool::new(false);
+    let lock = || state.lock().unwrap_or_else(PoisonError::into_inner);
+    let (joined, python_error) = std::thread::scope(|scope| {
+        let worker = scope.spawn(|| {
+            let points = plan.pool.install(|| {
+                analysis::run_points(
+                    &plan.grid,
+                    &plan.indices,
+                    |i, _| {
+                        // After a failure or an interrupt, points not yet started are skipped.
+                        if stop.load(Ordering::Relaxed) {
+                            return None;
+                        }
+                        plan.values.get(i).map(|&v| sweep.point(v))
+                    },
+                    |p: &SweepPoint<Option<SweepResult>>| -> Result<(), AnalysisError> {
+                        let mut s = lock();
+                        if let Some(result) = &p.result {
+                            s.done += 1;
+                            if result.is_err() && s.first_failure.is_none() {
+                                s.first_failure = Some(p.index);
+                                stop.store(true, Ordering::Relaxed);
+                            }
+                        }
+                        changed.notify_all();
+                        Ok(())
+                    },
+                )
+            });
+            lock().finished = true;
+            changed.notify_all();
+            points
+        });
+        let mut shown = 0;
+        let mut python_error: Option<PyErr> = None;
+        loop {
+            let (done, finished) = py.detach(|| {
+                let s = lock();
+                let (s, _) = changed
+                    .wait_timeout_while(s, POLL, |s| s.done == shown && !s.finished)
+                    .unwrap_or_else(PoisonError::into_inner);
+                (s.done, s.finished)
+            });
+            if python_error.is_none() {
+                let reported = if done == shown {
+                    Ok(())
+                } else {
+                    shown = done;
+                    reporter.call_method1("update", (done,)).map(drop)
+                };
+                if let Err(e) = reported.and_then(|()| py.check_signals()) {
+                    python_error = Some(e);
+                    stop.store(true, Ordering::Relaxed);
+                }
+            }
+            if finished {
+                break;
+            }
+        }
+        (worker.join(), python_error)
+    });
+    let closed = reporter.call_method0("close");
+    if let Some(e) = python_error {
+        return Err(e);
+    }
+    closed?;
+    let points = match joined {
+        Ok(points) => points.map_err(|e| errors::to_py(py, e.into(), None))?,
+        Err(_) => {
+            return Err(pyo3::exceptions::PyRuntimeError::new_err(
+                "a bifurcation worker thread panicked",
+            ));
+        }
+    };
+    let first_failure = lock().first_failure;
+    if let Some(index) = first_failure {
+        let failed = points.iter().find(|p| p.index == index);
+        if let Some((p, Some(Err(e)))) = failed.map(|p| (p, &p.result)) {
+            let value = plan.values.get(p.index).copied().unwrap_or(p.parameter);
+            let attrs = PyDict::new(py);
+            attrs.set_item("point", p.index)?;
+            attrs.set_item("parameter", value)?;
+            let prefix = format!("point {} ({} = {})", p.index, a.param, format_number(value));
+            return Err(errors::to_py_with(py, e, None, Some(&prefix), Some(&attrs)));
+        }
+    }
+    build(py, &a, &plan, &points)
+}
+
+/// The record of a finished sweep: its rows and its verdicts, in index order.
+fn build<'py>(
+    py: Python<'py>,
+    a: &SweepArgs,
+    plan: &Plan,
+    points: &[SweepPoint<Option<SweepResult>>],
+) -> PyResult<Bound<'py, PyAny>> {
+    let (mut index, mut parameter, mut turn, mut value) = (vec![], vec![], vec![], vec![]);
+    let (mut point_index, mut point_parameter, mut verdict, mut k) =
+        (vec![], vec![], vec![], vec![]);
+    for p in points {
+        let Some(Ok(s)) = &p.result else { continue };
+        let v = plan.values.get(p.index).copied().unwrap_or(p.parameter);
+        for (t, point) in s.turns.iter().zip(&s.section.points) {
+            for x in point {
+                index.push(p.index);
+                parameter.push(v);
+                turn.push(*t);
+                value.push(*x);
+            }
+        }
+        let (name, period) = match &s.period.verdict {
+            PeriodVerdict::Period { k, .. } => ("period", *k),
+            PeriodVerdict::NoPeriod { .. } => ("no_period", 0),
+            PeriodVerdict::NotSettled { .. } => ("not_settled", 0),
+        };
+        point_index.push(p.index);
+        point_parameter.push(v);
+        verdict.push(name);
+        k.push(period);
+    }
+    let fields = PyDict::new(py);
+    fields.set_item("parameter_name", &a.param)?;
+    fields.set_item("observe", &a.observe)?;
+    fields.set_item("index", ints(py, &index))?;
+    fields.set_item("parameter", floats(py, parameter))?;
+    fields.set_item("turn", ints(py, &turn))?;
+    fields.set_item("value", floats(py, value))?;
+    fields.set_item("point_index", ints(py, &point_index))?;
+    fields.set_item("point_parameter", floats(py, point_parameter))?;
+    fields.set_item("verdict", verdict)?;
+    fields.set_item("k", ints(py, &k))?;
+    fields.set_item(
+        "provenance",
+        provenance(py, plan.provenance.clone(), &plan.settings)?,
+    )?;
+    record(py, "Bifurcation", &fields)
+}
