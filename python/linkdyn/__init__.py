@@ -9,15 +9,36 @@ for bit) as the ``linkdyn`` command, results as NumPy arrays.
 >>> result.t.shape == result["B.ex"].shape        # float64 arrays, one per column
 True
 
+The analyses take the options of the matching ``linkdyn`` command and give its numbers as
+NumPy arrays (records in :mod:`linkdyn._analyses`):
+
+>>> s = model.poincare(revs=40, transient=10, observe=["B.ex", "B.ey"])
+>>> s["B.ex"].shape                               # one point per turn; s.verdict: 'period-1' …
+(30,)
+>>> b = model.bifurcation("joints.B.clearance", "coupler.phi", from_=2e-4, to=5e-4, steps=30,
+...                       revs=150, transient=100, formulation="reduced")   # rayon threads
+>>> rows = (b.parameter, b.turn, b.value)         # one row per recorded turn and point
+
+``model.spectrum(observe)``, ``model.phase(observe)`` and ``model.lyapunov()`` likewise.
+
 Errors are :class:`LinkdynError` subclasses (:class:`ModelError`, :class:`SettingsError`,
-:class:`SolverError`, :class:`OutputError`) whose messages are the command line's.
+:class:`SolverError`, :class:`AnalysisError`, :class:`OutputError`) whose messages are the
+command line's.
 """
 
 from typing import Any, Iterable, Mapping, Optional, Union
 import os
 
 from . import _linkdyn
-from ._errors import LinkdynError, ModelError, OutputError, SettingsError, SolverError
+from ._analyses import Bifurcation, LyapunovExponent, PhasePortrait, PoincareSection, Spectrum
+from ._errors import (
+    AnalysisError,
+    LinkdynError,
+    ModelError,
+    OutputError,
+    SettingsError,
+    SolverError,
+)
 from ._linkdyn import Model, Result
 
 __version__ = _linkdyn.version()
@@ -79,9 +100,15 @@ __all__ = [
     "version",
     "Model",
     "Result",
+    "PoincareSection",
+    "Bifurcation",
+    "Spectrum",
+    "PhasePortrait",
+    "LyapunovExponent",
     "LinkdynError",
     "ModelError",
     "SettingsError",
     "SolverError",
+    "AnalysisError",
     "OutputError",
 ]

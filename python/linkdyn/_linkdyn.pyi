@@ -1,9 +1,11 @@
 """Type stubs of the compiled core ``linkdyn._linkdyn`` (re-exported by ``linkdyn``)."""
 
-from typing import Any, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
+
+from ._analyses import Bifurcation, LyapunovExponent, PhasePortrait, PoincareSection, Spectrum
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -76,17 +78,152 @@ class Model:
         atol: float = 1e-10,
         energy: bool = False,
         max_steps: int = 10_000_000,
+        max_wall: Optional[float] = None,
     ) -> "Result":
         """Integrates the model and keeps every sample in memory; the arguments and defaults
         are those of ``linkdyn run`` (end time ``t_end`` in s, or ``revs`` turns of the single
         driver, default 2 turns; output interval ``dt`` in s; ``formulation`` ``"dae"`` or
         ``"reduced"``; ``method`` ``"dop853"`` or ``"dopri5"``; ``energy``: the energy
-        bookkeeping, DAE only). The GIL is released for the whole run, so runs in other
+        bookkeeping, DAE only; ``max_steps`` step attempts and ``max_wall`` seconds of
+        integration at most). The GIL is released for the whole run, so runs in other
         Python threads proceed in parallel. Same model and settings, same numbers as the
         command line, bit for bit.
 
         Raises ``SettingsError`` (before any work), ``ModelError`` (the linkage cannot be
         assembled or does not fit the formulation), ``SolverError`` (with ``time``)."""
+
+    # The analyses. Each takes the solve settings of ``run`` (``dt``, ``formulation``,
+    # ``method``, ``rtol``, ``atol``, ``max_steps``, ``max_wall``: same names and defaults;
+    # no ``t_end``: they count turns of the single driver, T = 2π/|ω|), checks everything
+    # before any work in the order of the matching command, releases the GIL while Rust
+    # computes, and gives the command's numbers bit for bit. Errors: ``SettingsError`` for an
+    # option (``str(e)`` is the command's message with ``phase`` for ``--phase``),
+    # ``ModelError`` (the linkage cannot be assembled or does not fit the formulation),
+    # ``SolverError`` (the integration failed; ``time``), ``AnalysisError`` (e.g. a window
+    # with too few samples).
+
+    def poincare(
+        self,
+        *,
+        revs: Optional[float] = None,
+        transient: int = 0,
+        phase: float = 0.0,
+        observe: Union[str, Sequence[str], None] = None,
+        dt: float = 1e-4,
+        formulation: str = "dae",
+        method: str = "dop853",
+        rtol: float = 1e-8,
+        atol: float = 1e-10,
+        max_steps: int = 10_000_000,
+        max_wall: Optional[float] = None,
+    ) -> PoincareSection:
+        """Poincaré section once per driver turn, with its period verdict (``linkdyn
+        poincare``). Integrates ``revs`` turns (a whole number ≥ 1, default 2) and records, for
+        turns k = ``transient`` … revs − 1, the ``observe`` columns (a list, or a string split
+        at commas; default: every state, named ``y[i]``) at the exact instants
+        t_k = t0 + ``phase``/|ω| + k·T (``phase`` in rad, in [0, 2π)), from the dense output.
+        The verdict (period-k, no period, not settled) compares points within 1000 times the
+        integration tolerance carried to each column; see ``PoincareSection``."""
+    def bifurcation(
+        self,
+        param: str,
+        observe: str,
+        *,
+        from_: Optional[float] = None,
+        to: Optional[float] = None,
+        steps: Optional[int] = None,
+        values: Optional[Sequence[float]] = None,
+        revs: Optional[float] = None,
+        transient: int = 100,
+        phase: float = 0.0,
+        threads: Optional[int] = None,
+        shard: Optional[str] = None,
+        progress: Union[bool, None, Callable[[int, int], Any]] = True,
+        dt: float = 1e-4,
+        formulation: str = "dae",
+        method: str = "dop853",
+        rtol: float = 1e-8,
+        atol: float = 1e-10,
+        max_steps: int = 10_000_000,
+        max_wall: Optional[float] = None,
+    ) -> Bifurcation:
+        """Bifurcation diagram (``linkdyn bifurcation``): the model field ``param`` (a ``set=``
+        path, e.g. ``"joints.B.clearance"``, in the field's unit in the model file) takes each
+        value of the grid ``from_`` … ``to`` in ``steps`` intervals (both ends included, as
+        ``--from/--to/--steps``) or of the list ``values``; each point reloads the model file
+        with the load-time overrides and ``param=value``, integrates ``revs`` turns (default
+        150) and records ``observe`` once per turn after ``transient`` turns (default 100) at
+        ``phase``, with the point's period verdict.
+
+        Points run in parallel on ``threads`` rayon threads (default: one per core) without
+        the GIL; ``shard="i/n"`` runs only shard i of n (1-based). ``progress``: ``True`` a
+        tqdm bar (a line on stderr without tqdm), ``False``/``None`` nothing, or a callable
+        ``progress(done, total)``; it is called from the calling thread between points, taking
+        the GIL briefly. Ctrl-C or an exception from the callback stops the sweep (points in
+        flight finish first). A failed point raises its error with ``point I (PARAM = VALUE):``
+        in front and the attributes ``point`` and ``parameter``.
+
+        The model file must be unchanged since ``load`` (each point reads it again; a changed
+        file is refused) and reachable by the path given to ``load`` from the current
+        directory."""
+    def spectrum(
+        self,
+        observe: str,
+        *,
+        revs: Optional[float] = None,
+        transient: float = 0.0,
+        dt: float = 1e-4,
+        formulation: str = "dae",
+        method: str = "dop853",
+        rtol: float = 1e-8,
+        atol: float = 1e-10,
+        max_steps: int = 10_000_000,
+        max_wall: Optional[float] = None,
+    ) -> Spectrum:
+        """One-sided amplitude spectrum of output column ``observe`` (``linkdyn spectrum``):
+        ``revs`` turns (default transient + 10) sampled every ``dt`` s, the first
+        ``transient`` turns dropped, Hann window, mean removed; the dominant peaks with their
+        multiple of the driving frequency |ω|/2π. See ``Spectrum``."""
+    def phase(
+        self,
+        observe: str,
+        *,
+        revs: Optional[float] = None,
+        transient: float = 0.0,
+        dt: float = 1e-4,
+        formulation: str = "dae",
+        method: str = "dop853",
+        rtol: float = 1e-8,
+        atol: float = 1e-10,
+        max_steps: int = 10_000_000,
+        max_wall: Optional[float] = None,
+    ) -> PhasePortrait:
+        """Phase-portrait data of output column ``observe`` (``linkdyn phase``): its samples
+        after ``transient`` turns against its rate, from the rate column where the run has one
+        (``B.phi`` → ``B.omega``, ``B.x`` → ``B.vx``), else second-order differences.
+        ``revs`` defaults to transient + 10. See ``PhasePortrait``."""
+    def lyapunov(
+        self,
+        *,
+        revs: Optional[float] = None,
+        transient: float = 0.0,
+        d0: float = 1e-7,
+        renormalise_every_revs: float = 1.0,
+        dt: float = 1e-4,
+        formulation: str = "dae",
+        method: str = "dop853",
+        rtol: float = 1e-8,
+        atol: float = 1e-10,
+        max_steps: int = 10_000_000,
+        max_wall: Optional[float] = None,
+    ) -> LyapunovExponent:
+        """Largest Lyapunov exponent (``linkdyn lyapunov``, 1/s): a reference and a perturbed
+        trajectory from turn ``transient``, separated by ``d0`` in the scaled norm (angles in
+        rad, positions in units of the longest body arm, velocities × 1/|ω|; bookkeeping
+        states neither perturbed nor measured) and renormalised every
+        ``renormalise_every_revs`` turns up to ``revs`` (default transient + 10; at least 2
+        intervals). Returns λ, its batch-means uncertainty and the running estimate; see
+        ``LyapunovExponent``."""
 
 class Result:
     """A finished run: times, one read-only float64 array per column, events, summary."""
