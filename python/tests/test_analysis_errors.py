@@ -1,0 +1,202 @@
+"""Analysis errors raise the right exception class with the command line's message.
+
+Each case runs a ``linkdyn`` analysis command with some bad input and the same input through
+``Model``, and compares ``error: <message>`` on the CLI's stderr with ``str(exception)`` after
+the one documented respelling: the CLI names settings as flags (``--phase``, and
+``--t-end`` for `` `t_end` `` in a reason) and the swept field as ``--param PATH``, where
+Python says ``phase``, ``t_end`` and ``param PATH``. The exit code gives the class: 2 is a
+``ValueError`` (``SettingsError``, ``ModelError``, ``AnalysisError``), 3 a ``SolverError``.
+"""
+
+import re
+
+import pytest
+
+import linkdyn
+
+MODEL = "models/farahan2016.toml"
+POINT = re.compile(r"^point \d+ \([^)]*\): ")
+
+
+def flag(name: str) -> str:
+    return "--" + name.replace("_", "-")
+
+
+def cli_spelling(e: linkdyn.LinkdynError) -> str:
+    """The CLI's message for the Python exception `e` (src/cli/mod.rs, `message`)."""
+    text = str(e)
+    m = POINT.match(text)
+    prefix, text = (m.group(0), text[m.end():]) if m else ("", text)
+    if text.startswith("param "):
+        text = "--" + text
+    if isinstance(e, linkdyn.SettingsError):
+        reason = text[len(e.option) + 2:]
+        parts = reason.split("`")
+        text = flag(e.option) + ": " + "".join(
+            flag(p) if k % 2 else p for k, p in enumerate(parts))
+    return prefix + text
+
+
+SWEEP = ["--param", "joints.B.clearance", "--from", "0.0002", "--to", "0.0003", "--steps",
+         "1", "--revs", "3", "--transient", "1", "--observe", "coupler.phi", "--threads", "1"]
+SWEEP_KW = dict(from_=0.0002, to=0.0003, steps=1, revs=3, transient=1, threads=1,
+                progress=False)
+
+
+def sweep(args):
+    """SWEEP with the flags in `args` replaced (or added)."""
+    out = list(SWEEP)
+    for k in range(0, len(args), 2):
+        if args[k] in out:
+            out[out.index(args[k]) + 1] = args[k + 1]
+        else:
+            out += args[k:k + 2]
+    return out
+
+
+def bif(param="joints.B.clearance", observe="coupler.phi", model=MODEL, **changes):
+    kw = dict(SWEEP_KW)
+    kw.update(changes)
+    return lambda: linkdyn.load(model).bifurcation(param, observe, **kw)
+
+
+def m(name, **kw):
+    return lambda: getattr(linkdyn.load(MODEL), name)(**kw)
+
+
+CASES = [
+    # (id, CLI arguments after the command's model, the Python call, class, exit code)
+    ("poincare-phase", ["poincare", MODEL, "--phase", "7"], m("poincare", phase=7.0),
+     linkdyn.SettingsError, 2),
+    ("poincare-fractional-revs", ["poincare", MODEL, "--revs", "2.5"],
+     m("poincare", revs=2.5), linkdyn.SettingsError, 2),
+    ("poincare-revs-not-past-transient", ["poincare", MODEL, "--revs", "3", "--transient", "3"],
+     m("poincare", revs=3, transient=3), linkdyn.SettingsError, 2),
+    ("poincare-unknown-column", ["poincare", MODEL, "--observe", "B.ex,B.exx"],
+     m("poincare", observe=["B.ex", "B.exx"]), linkdyn.SettingsError, 2),
+    ("poincare-method", ["poincare", MODEL, "--method", "rk4"], m("poincare", method="rk4"),
+     linkdyn.SettingsError, 2),
+    ("poincare-solver", ["poincare", MODEL, "--max-steps", "10"], m("poincare", max_steps=10),
+     linkdyn.SolverError, 3),
+    ("spectrum-transient", ["spectrum", MODEL, "--observe", "B.fn", "--transient", "-1"],
+     m("spectrum", observe="B.fn", transient=-1.0), linkdyn.SettingsError, 2),
+    ("spectrum-revs", ["spectrum", MODEL, "--observe", "B.fn", "--revs", "1", "--transient", "2"],
+     m("spectrum", observe="B.fn", revs=1, transient=2), linkdyn.SettingsError, 2),
+    ("spectrum-too-few-samples", ["spectrum", MODEL, "--observe", "B.fn", "--revs", "0.0002"],
+     m("spectrum", observe="B.fn", revs=0.0002), linkdyn.AnalysisError, 2),
+    ("phase-unknown-column", ["phase", MODEL, "--observe", "B.fnn"],
+     m("phase", observe="B.fnn"), linkdyn.SettingsError, 2),
+    ("phase-reduced-does-not-fit", ["phase", "models/fourbar_ideal.toml", "--observe",
+                                    "coupler.phi", "--formulation", "reduced"],
+     lambda: linkdyn.load("models/fourbar_ideal.toml").phase("coupler.phi",
+                                                            formulation="reduced"),
+     linkdyn.ModelError, 2),
+    ("lyapunov-renormalise", ["lyapunov", MODEL, "--renormalise-every-revs", "0"],
+     m("lyapunov", renormalise_every_revs=0.0), linkdyn.SettingsError, 2),
+    ("lyapunov-intervals", ["lyapunov", MODEL, "--revs", "3", "--transient", "2"],
+     m("lyapunov", revs=3, transient=2), linkdyn.SettingsError, 2),
+    ("lyapunov-d0", ["lyapunov", MODEL, "--d0", "-1", "--revs", "3"],
+     m("lyapunov", d0=-1.0, revs=3), linkdyn.AnalysisError, 2),
+    ("bifurcation-grid", ["bifurcation", MODEL, *sweep(["--from", "1", "--to", "2",
+                                                        "--steps", "0"])],
+     bif(from_=1.0, to=2.0, steps=0), linkdyn.AnalysisError, 2),
+    ("bifurcation-revs", ["bifurcation", MODEL, *sweep(["--transient", "3"])],
+     bif(transient=3), linkdyn.SettingsError, 2),
+    ("bifurcation-unknown-param", ["bifurcation", MODEL, *sweep(["--param",
+                                                                 "joints.B.clearanc"])],
+     bif(param="joints.B.clearanc"), linkdyn.ModelError, 2),
+    ("bifurcation-unknown-column", ["bifurcation", MODEL, *sweep(["--observe", "coupler.ph"])],
+     bif(observe="coupler.ph"), linkdyn.SettingsError, 2),
+    ("bifurcation-threads", ["bifurcation", MODEL, *sweep(["--threads", "0"])],
+     bif(threads=0), linkdyn.SettingsError, 2),
+    # A point whose value the model refuses (a clearance beyond the journal radius).
+    ("bifurcation-point-model", ["bifurcation", MODEL, *sweep(["--to", "0.02"])],
+     bif(to=0.02), linkdyn.ModelError, 2),
+    # A point whose driver stops: a settings error inside a point.
+    ("bifurcation-point-settings", ["bifurcation", MODEL, *sweep([
+        "--param", "drivers.motor.speed_rpm", "--from", "250", "--to", "0"])],
+     bif(param="drivers.motor.speed_rpm", from_=250.0, to=0.0), linkdyn.SettingsError, 2),
+    ("bifurcation-point-solver", ["bifurcation", MODEL, *sweep(["--max-steps", "100"])],
+     bif(max_steps=100), linkdyn.SolverError, 3),
+]
+
+
+@pytest.mark.parametrize("args, call, cls, code", [c[1:] for c in CASES],
+                         ids=[c[0] for c in CASES])
+def test_analysis_errors_are_the_cli_s(cli, tmp_path, args, call, cls, code):
+    got, _, err = cli(*args, "--out", str(tmp_path / "a.csv"))
+    lines = [l for l in err.splitlines() if l.startswith("error: ")]
+    assert got == code and len(lines) == 1, err
+    with pytest.raises(linkdyn.LinkdynError) as info:
+        call()
+    e = info.value
+    assert type(e) is cls, f"{type(e).__name__}: {e}"
+    assert isinstance(e, RuntimeError if code == 3 else ValueError)
+    assert cli_spelling(e) == lines[0][len("error: "):]
+
+
+def test_solver_error_of_an_analysis_has_the_time():
+    with pytest.raises(linkdyn.SolverError) as info:
+        linkdyn.load(MODEL).poincare(max_steps=10)
+    e = info.value
+    printed = float(re.search(r"t = ([0-9.]+) s", str(e)).group(1))
+    # The message rounds t to 9 decimals.
+    assert abs(e.time - printed) <= 5e-10, (e.time, printed)
+
+
+def test_failed_sweep_point_names_its_index_and_value():
+    with pytest.raises(linkdyn.ModelError) as info:
+        bif(to=0.02)()
+    e = info.value
+    assert (e.point, e.parameter) == (1, 0.02)
+    assert str(e).startswith("point 1 (joints.B.clearance = 0.02): models/farahan2016.toml:64:13:")
+    # The model error keeps its place in the file.
+    assert (e.file, e.line, e.column, e.field) == (MODEL, 64, 13, "joints.B.clearance")
+
+
+@pytest.mark.parametrize(
+    "kwargs, cls, message",
+    [
+        (dict(values=[1e-4], from_=1e-4), linkdyn.SettingsError,
+         "values: give `values` or `from_`, `to` and `steps`, not both"),
+        (dict(values=[]), linkdyn.SettingsError, "values: expected at least one value"),
+        (dict(values=[2e-4, float("nan")]), linkdyn.SettingsError,
+         "values: expected finite values, got NaN at position 1"),
+        (dict(from_=1e-4, to=2e-4), linkdyn.SettingsError,
+         "steps: give the grid as `from_`, `to` and `steps` (or the points as `values`)"),
+        (dict(from_=1e-4, to=2e-4, steps=-1), linkdyn.SettingsError,
+         "steps: expected a whole number ≥ 0, got -1"),
+        (dict(from_=1e-4, to=2e-4, steps=1, shard="3/2"), linkdyn.AnalysisError,
+         "invalid --shard: expected i/n with 1 ≤ i ≤ n (i is 1-based), got 3/2"),
+        (dict(from_=1e-4, to=2e-4, steps=1, transient=-1), linkdyn.SettingsError,
+         "transient: expected a whole number of turns ≥ 0, got -1"),
+    ],
+    ids=["values-and-grid", "no-values", "nan-value", "no-steps", "negative-steps", "shard",
+         "negative-transient"],
+)
+def test_sweep_options_only_python_has(kwargs, cls, message):
+    model = linkdyn.load(MODEL)
+    kw = dict(revs=3, transient=1, progress=False)
+    kw.update(kwargs)
+    with pytest.raises(cls) as info:
+        model.bifurcation("joints.B.clearance", "coupler.phi", **kw)
+    assert str(info.value) == message
+
+
+def test_bad_observe_and_progress_types():
+    model = linkdyn.load(MODEL)
+    with pytest.raises(TypeError, match="observe=: expected a column name"):
+        model.poincare(observe=3)
+    with pytest.raises(TypeError, match=r"progress=: expected True, False, None or a callable"):
+        model.bifurcation("joints.B.clearance", "coupler.phi", values=[2e-4], revs=3,
+                          transient=1, progress="yes")
+
+
+def test_a_changed_model_file_is_refused(tmp_path, root):
+    path = tmp_path / "m.toml"
+    path.write_text((root / MODEL).read_text())
+    model = linkdyn.load(str(path))
+    path.write_text((root / MODEL).read_text().replace("crank at 250 rpm", "edited"))
+    with pytest.raises(linkdyn.SettingsError, match="changed since it was loaded"):
+        model.bifurcation("joints.B.clearance", "coupler.phi", values=[2e-4], revs=3,
+                          transient=1, progress=False)
