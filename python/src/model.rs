@@ -192,7 +192,12 @@ impl PyModel {
         }
     }
 
-    /// Integrates the model and keeps every sample in memory (see `linkdyn.Model.run`).
+    /// Integrates the model and keeps every sample in memory (`linkdyn run`): end time
+    /// `t_end` (s) or `revs` driver turns (default 2), samples every `dt` s, `formulation`
+    /// "dae" or "reduced", `method` "dop853" or "dopri5", tolerances `rtol`/`atol`, `energy`
+    /// bookkeeping (DAE only), at most `max_steps` step attempts and `max_wall` s. Returns a
+    /// `linkdyn.Result`; the GIL is released for the whole run. Raises `SettingsError`,
+    /// `ModelError`, `SolverError`.
     #[pyo3(signature = (*, t_end = None, revs = None, dt = 1e-4, formulation = "dae".to_string(),
         method = "dop853".to_string(), rtol = 1e-8, atol = 1e-10, energy = false,
         max_steps = 10_000_000, max_wall = None))]
@@ -246,8 +251,17 @@ impl PyModel {
         PyResult_::new(py, run, clearance)
     }
 
-    /// Poincaré section once per driver turn with its period verdict (see
-    /// `linkdyn.Model.poincare`).
+    /// Poincaré section once per driver turn, with its period verdict (`linkdyn poincare`).
+    ///
+    /// Integrates `revs` turns (a whole number ≥ 1, default 2) and records, for turns
+    /// k = `transient` … revs − 1, the `observe` columns (a list, or a string split at commas;
+    /// default: every state, named `y[i]`) at the exact instants t_k = t0 + `phase`/|ω| + k·T
+    /// (`phase` in rad, in [0, 2π); T = 2π/|ω| of the single driver), from the dense output.
+    /// The verdict (period-k, no period, not settled) compares points within 1000 times the
+    /// integration tolerance carried to each column. Solve settings as `run` (no `t_end`).
+    /// Returns a `linkdyn.PoincareSection`; the GIL is released while Rust integrates.
+    ///
+    /// Raises `SettingsError`, `ModelError`, `SolverError` (with `time`).
     #[pyo3(signature = (*, revs = None, transient = 0, phase = 0.0, observe = None, dt = 1e-4,
         formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
         atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
@@ -285,8 +299,22 @@ impl PyModel {
         analyses::poincare(py, &self.model, &self.path, &solve, args)
     }
 
-    /// Bifurcation diagram: a model field swept over a grid, one section of `observe` per
-    /// point, points in parallel (see `linkdyn.Model.bifurcation`).
+    /// Bifurcation diagram (`linkdyn bifurcation`): the model field `param` (a `set=` path,
+    /// e.g. `"joints.B.clearance"`, in the field's unit in the model file) takes each value
+    /// of the grid `from_` … `to` in `steps` intervals (both ends included) or of the list
+    /// `values`; each point reloads the model file with the load-time overrides and
+    /// `param=value`, integrates `revs` turns (default 150) and records `observe` once per
+    /// turn after `transient` turns (default 100) at `phase`, with the point's period verdict.
+    ///
+    /// Points run in parallel on `threads` rayon threads (default: one per core) without the
+    /// GIL; `shard="i/n"` runs shard i of n (1-based). `progress`: True a tqdm bar (a line on
+    /// stderr without tqdm), False/None nothing, or a callable `progress(done, total)`, called
+    /// from the calling thread between points with the GIL taken briefly. Ctrl-C or an
+    /// exception from the callback stops the sweep (points in flight finish first). A failed
+    /// point raises its error with `point I (PARAM = VALUE): ` in front and the attributes
+    /// `point` and `parameter`. Returns a `linkdyn.Bifurcation` (rows in index order).
+    ///
+    /// The model file must be unchanged since `load` and reachable by the path given to it.
     #[pyo3(signature = (param, observe, *, from_ = None, to = None, steps = None, values = None,
         revs = None, transient = 100, phase = 0.0, threads = None, shard = None,
         progress = Progress::Flag(true), dt = 1e-4, formulation = "dae".to_string(),
@@ -341,8 +369,13 @@ impl PyModel {
         sweep::bifurcation(py, &self.model, &self.path, &solve, args, progress)
     }
 
-    /// Amplitude spectrum of an output column after the transient (see
-    /// `linkdyn.Model.spectrum`).
+    /// One-sided amplitude spectrum of output column `observe` (`linkdyn spectrum`): `revs`
+    /// turns (default transient + 10) sampled every `dt` s, the first `transient` turns
+    /// dropped, Hann window, mean removed; the dominant peaks with their multiple of the
+    /// driving frequency |ω|/2π. Returns a `linkdyn.Spectrum` (frequencies in Hz, amplitudes
+    /// in the column's unit); the GIL is released while Rust integrates.
+    ///
+    /// Raises `SettingsError`, `ModelError`, `SolverError`, `AnalysisError` (too few samples).
     #[pyo3(signature = (observe, *, revs = None, transient = 0.0, dt = 1e-4,
         formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
         atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
@@ -374,8 +407,11 @@ impl PyModel {
         analyses::spectrum(py, &self.model, &self.path, &solve, observe, window)
     }
 
-    /// Phase-portrait data of an output column after the transient (see
-    /// `linkdyn.Model.phase`).
+    /// Phase-portrait data of output column `observe` (`linkdyn phase`): its samples after
+    /// `transient` turns against its rate, taken from the rate column where the run has one
+    /// (`B.phi` → `B.omega`, `B.x` → `B.vx`), else second-order differences. `revs` defaults
+    /// to transient + 10. Returns a `linkdyn.PhasePortrait`; the GIL is released while Rust
+    /// integrates.
     #[pyo3(signature = (observe, *, revs = None, transient = 0.0, dt = 1e-4,
         formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
         atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
@@ -407,7 +443,13 @@ impl PyModel {
         analyses::phase(py, &self.model, &self.path, &solve, observe, window)
     }
 
-    /// Largest Lyapunov exponent with its convergence (see `linkdyn.Model.lyapunov`).
+    /// Largest Lyapunov exponent (`linkdyn lyapunov`, 1/s): a reference and a perturbed
+    /// trajectory from turn `transient`, separated by `d0` in the scaled norm (angles in rad,
+    /// positions in units of the longest body arm, velocities × 1/|ω|; bookkeeping states
+    /// neither perturbed nor measured), renormalised every `renormalise_every_revs` turns up
+    /// to `revs` (default transient + 10; at least 2 intervals). Returns a
+    /// `linkdyn.LyapunovExponent` (λ, its batch-means uncertainty, the running estimate); the
+    /// GIL is released while Rust integrates.
     #[pyo3(signature = (*, revs = None, transient = 0.0, d0 = 1e-7, renormalise_every_revs = 1.0,
         dt = 1e-4, formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
         atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
