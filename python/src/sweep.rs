@@ -309,12 +309,14 @@ pub fn bifurcation<'py>(
                     .unwrap_or_else(PoisonError::into_inner);
                 (s.done, s.finished)
             });
+            let advanced = done != shown;
+            // Kept current after an error too, so that the wait above keeps waiting.
+            shown = done;
             if python_error.is_none() {
-                let reported = if done == shown {
-                    Ok(())
-                } else {
-                    shown = done;
+                let reported = if advanced {
                     reporter.call_method1("update", (done,)).map(drop)
+                } else {
+                    Ok(())
                 };
                 if let Err(e) = reported.and_then(|()| py.check_signals()) {
                     python_error = Some(e);
