@@ -71,7 +71,7 @@ const CASES: &[(&str, &str)] = &[
     ),
     (
         "gravity_component_not_a_number",
-        "tests/bad_models/gravity_component_not_a_number.toml:6:15: settings.gravity[1]: expected a number for the y component of the gravity vector (m/s²), found a string \"down\"",
+        "tests/bad_models/gravity_component_not_a_number.toml:6:16: settings.gravity[1]: in expression \"down\": unknown name \"down\"; expected a parameter from [parameters]",
     ),
     (
         "gravity_junk_component",
@@ -183,7 +183,7 @@ const CASES: &[(&str, &str)] = &[
     ),
     (
         "wrong_type",
-        "tests/bad_models/wrong_type.toml:10:8: bodies.crank.mass: invalid type: string \"heavy\", expected f64",
+        "tests/bad_models/wrong_type.toml:10:8: bodies.crank.mass: invalid type: boolean `true`, expected a number or an expression string such as \"L2/2\"",
     ),
     (
         "youngs_modulus_absurd",

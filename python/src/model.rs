@@ -4,7 +4,7 @@ use crate::errors;
 use crate::result::PyResult_;
 use linkdyn::Error;
 use linkdyn::formulation::{Dae, DaeOptions};
-use linkdyn::model::{ForceElement, JointKind, Model};
+use linkdyn::model::{JointKind, Model};
 use linkdyn::simulation::{FormulationKind, Simulation, SimulationOptions};
 use linkdyn::solve::{Method, SolveError, SolverOptions};
 use pyo3::prelude::*;
@@ -168,11 +168,7 @@ impl PyModel {
     fn forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
         for f in &self.model.forces {
-            let (name, kind) = match f {
-                ForceElement::SpringDamper { name, .. } => (name, "spring-damper"),
-                ForceElement::Torque { name, .. } => (name, "torque"),
-                ForceElement::PointForce { name, .. } => (name, "force"),
-            };
+            let (name, kind) = (f.name(), f.type_name());
             let d = PyDict::new(py);
             d.set_item("name", name)?;
             d.set_item("type", kind)?;
