@@ -44,12 +44,23 @@ pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<M
     };
     let name = b.name_on(&raw.model.name, "model", "")?;
     let settings = b.settings(&raw.settings)?;
-    let ground_points = b.points(&raw.ground.points, "ground")?;
     // Each [[repeat]] expands into one builder per index value, whose names substitute `{…}`.
     let mut repeats = Vec::with_capacity(raw.repeat.len());
     for r in &raw.repeat {
         for rb in b.repeat(r)? {
             repeats.push((rb, r));
+        }
+    }
+    let mut ground_points = b.points(&raw.ground.points, "ground")?;
+    for (rb, r) in &repeats {
+        ground_points.extend(rb.points(&r.ground.points, "ground")?);
+    }
+    let mut seen = HashSet::new();
+    for (name, _) in &ground_points {
+        if !seen.insert(name.as_str()) {
+            return Err(loc.whole(format!(
+                "ground point \"{name}\" is defined twice (in [ground] or a [repeat.ground]); expected unique names"
+            )));
         }
     }
     let mut seen = HashSet::new();

@@ -116,6 +116,9 @@ pub struct RepeatFile {
     pub from: Num,
     /// Last value, inclusive.
     pub to: Num,
+    /// Ground point templates (`[repeat.ground] points = { "G{i}" = ["i*a", 0] }`).
+    #[serde(default)]
+    pub ground: GroundFile,
     /// Body templates.
     #[serde(default)]
     pub bodies: Vec<BodyFile>,
