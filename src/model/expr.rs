@@ -533,6 +533,7 @@ pub fn parse(text: &str) -> Result<Node, ExprError> {
         tokens: tokenize(text)?,
         pos: 0,
         end: text.len(),
+        depth: 0,
     };
     let node = p.expr()?;
     match p.peek() {
@@ -641,7 +642,14 @@ struct Parser {
     tokens: Vec<Token>,
     pos: usize,
     end: usize,
+    /// Nesting depth of parentheses, calls and unary signs, bounded so that a hostile string
+    /// cannot overflow the stack of the recursive descent (or of evaluation, which follows the
+    /// same tree).
+    depth: usize,
 }
+
+/// Deepest nesting accepted: far beyond any hand-written expression.
+const MAX_DEPTH: usize = 100;
 
 const OPERAND: &str = "expected a number, a name, '(' or '-'";
 
@@ -659,7 +667,27 @@ impl Parser {
         }
     }
 
+    /// Enters one level of nesting, refusing more than [`MAX_DEPTH`].
+    fn deeper(&mut self) -> Result<(), ExprError> {
+        self.depth += 1;
+        if self.depth > MAX_DEPTH {
+            let offset = self.peek().map_or(self.end, |t| t.offset);
+            return fail(
+                offset,
+                format!("expression nested more than {MAX_DEPTH} levels deep"),
+            );
+        }
+        Ok(())
+    }
+
     fn expr(&mut self) -> Result<Node, ExprError> {
+        self.deeper()?;
+        let node = self.sum();
+        self.depth -= 1;
+        node
+    }
+
+    fn sum(&mut self) -> Result<Node, ExprError> {
         let mut left = self.term()?;
         while let Some(c @ ('+' | '-')) = self.peek_op() {
             let offset = self.tokens[self.pos].offset;
@@ -690,6 +718,13 @@ impl Parser {
     }
 
     fn unary(&mut self) -> Result<Node, ExprError> {
+        self.deeper()?;
+        let node = self.signed();
+        self.depth -= 1;
+        node
+    }
+
+    fn signed(&mut self) -> Result<Node, ExprError> {
         match self.peek_op() {
             Some('-') => {
                 let offset = self.tokens[self.pos].offset;

@@ -178,3 +178,17 @@ fn errors_name_the_token_and_what_was_expected() {
         )
     );
 }
+
+#[test]
+fn hostile_nesting_is_refused_not_a_stack_overflow() {
+    let deep = format!("{}1{}", "(".repeat(100_000), ")".repeat(100_000));
+    assert_eq!(
+        error(&deep).1,
+        "expression nested more than 100 levels deep"
+    );
+    assert_eq!(
+        error(&"-".repeat(100_000)).1,
+        "expression nested more than 100 levels deep"
+    );
+    close(&format!("{}1{}", "(".repeat(40), ")".repeat(40)), 1.0);
+}
