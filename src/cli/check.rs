@@ -60,6 +60,14 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
             j.b.point
         );
     }
+    if !model.parameters.is_empty() {
+        let listed: Vec<String> = model
+            .parameters
+            .iter()
+            .map(|(n, v)| format!("{n} = {v}"))
+            .collect();
+        println!("parameters: {}", listed.join(", "));
+    }
     println!("drivers: {}", model.drivers.len());
     for d in &model.drivers {
         println!(
@@ -78,6 +86,15 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     );
     for f in &model.forces {
         println!("  {:<12} {}", f.name(), f.type_name());
+    }
+    for o in &model.outputs {
+        println!(
+            "output point {} on {} at [{}, {}] m",
+            o.name,
+            model.frame_name(o.at.frame),
+            o.at.local[0],
+            o.at.local[1]
+        );
     }
     let set = dae.constraints();
     let redundant: Vec<String> = dae

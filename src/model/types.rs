@@ -413,7 +413,7 @@ pub struct Model {
     pub forces: Vec<ForceElement>,
     /// Points on bodies reported as output columns.
     pub outputs: Vec<OutputPoint>,
-    /// Parameters as evaluated (name, value), in the order of `[parameters]`.
+    /// Parameters as evaluated (name, value), sorted by name.
     pub parameters: Vec<(String, f64)>,
     /// Provenance.
     pub source: ModelSource,
