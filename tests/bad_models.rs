@@ -34,6 +34,10 @@ const CASES: &[(&str, &str)] = &[
         "tests/bad_models/clearance_too_large_eccentricity.toml:24:24: joints.C.initial_eccentricity: initial eccentricity |e| = 1.000000e-3 m is not smaller than the clearance 5.000000e-4 m; expected the journal strictly inside the bearing, since a contact that is under way at t = 0 has no impact velocity to scale its damping",
     ),
     (
+        "driver_field_of_other_type",
+        "tests/bad_models/driver_field_of_other_type.toml:32:9: drivers.motor.speed: field `speed` does not belong to a prescribed-angle driver; expected only angle",
+    ),
+    (
         "driver_name_quote",
         "tests/bad_models/driver_name_quote.toml:24:8: drivers[0].name: invalid driver name \"mo\\\"tor\": '\"' (it quotes a CSV field) is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
     ),
@@ -44,6 +48,18 @@ const CASES: &[(&str, &str)] = &[
     (
         "driver_on_prismatic",
         "tests/bad_models/driver_on_prismatic.toml:41:9: drivers.motor.joint: driver \"motor\" drives joint \"A\", which is prismatic; a constant-speed driver needs a revolute joint",
+    ),
+    (
+        "driver_prescribed_angle_of_state",
+        "tests/bad_models/driver_prescribed_angle_of_state.toml:31:18: drivers.motor.angle: in expression \"0.1*t + crank.phi\": \"crank.phi\" is part of the state, but a prescribed angle is a function of time `t` alone (use a `torque` driver for a motor law)",
+    ),
+    (
+        "driver_ramp_unknown_shape",
+        "tests/bad_models/driver_ramp_unknown_shape.toml:34:9: drivers.motor.shape: unknown ramp shape \"cubic\"; expected \"smooth\" or \"linear\"",
+    ),
+    (
+        "driver_ramp_without_duration",
+        "tests/bad_models/driver_ramp_without_duration.toml:28:8: drivers.motor.name: missing field `duration` of speed-ramp driver \"motor\"",
     ),
     (
         "driver_two_speeds",
@@ -62,6 +78,22 @@ const CASES: &[(&str, &str)] = &[
         "tests/bad_models/eccentricity_one_component.toml:24:24: joints.C.initial_eccentricity: expected 2 components [x, y] for the initial eccentricity (m), found 1 component",
     ),
     (
+        "expr_syntax",
+        "tests/bad_models/expr_syntax.toml:14:15: bodies.crank.mass: in expression \"(m + L\": unexpected end of the expression; expected ')' to close the '('",
+    ),
+    (
+        "expr_time_at_load",
+        "tests/bad_models/expr_time_at_load.toml:14:16: bodies.crank.mass: in expression \"m*(1 + t)\": \"t\" is only known during the run, but this field is evaluated once at load time; time and state may appear in force and torque expressions and prescribed angles",
+    ),
+    (
+        "expr_unknown_function",
+        "tests/bad_models/expr_unknown_function.toml:17:38: bodies.crank.initial.phi: in expression \"sinn(0.1)\": unknown function \"sinn\": did you mean \"sin\"?; expected one of sin cos tan asin acos atan atan2 sqrt abs exp ln floor min max mod or a table from [[tables]]",
+    ),
+    (
+        "expr_unknown_parameter",
+        "tests/bad_models/expr_unknown_parameter.toml:15:14: bodies.crank.inertia: in expression \"m*Ll^2/12\": unknown name \"Ll\": did you mean \"L\"?; expected a parameter from [parameters]",
+    ),
+    (
         "flores_restitution_below_floor",
         "tests/bad_models/flores_restitution_below_floor.toml:27:15: joints.C.contact.restitution: expected a coefficient of restitution of at least 0.01 for the flores law, found 0.001: its damping factor 8(1 − c_r)/(5 c_r) grows as 1/c_r (c_r = 1e-4 costs 56× the work of 0.9, 1e-5 475×), and c_r < 0.01 is a plastic impact that no continuous contact law describes",
     ),
@@ -70,8 +102,20 @@ const CASES: &[(&str, &str)] = &[
         "tests/bad_models/force_name_hash.toml:30:8: forces[0].name: invalid force name \"#push\": '#' (it starts a comment line) is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
     ),
     (
+        "force_theta_without_driver",
+        "tests/bad_models/force_theta_without_driver.toml:31:15: forces.spring.torque: in expression \"-10*theta\": `theta` and `omega` are the angle and speed of the model's single driver, but it has 0; write a body's angle instead, e.g. crank.phi",
+    ),
+    (
+        "force_unknown_coordinate",
+        "tests/bad_models/force_unknown_coordinate.toml:37:15: forces.spring.torque: in expression \"-10*crank.ph\": unknown body coordinate \"ph\" in \"crank.ph\": did you mean \"phi\"?; expected one of x y phi vx vy omega",
+    ),
+    (
+        "force_vector_three_components",
+        "tests/bad_models/force_vector_three_components.toml:38:9: forces.push.force: expected 2 components [x, y] for the force (N), found 3 components",
+    ),
+    (
         "gravity_component_not_a_number",
-        "tests/bad_models/gravity_component_not_a_number.toml:6:15: settings.gravity[1]: expected a number for the y component of the gravity vector (m/s²), found a string \"down\"",
+        "tests/bad_models/gravity_component_not_a_number.toml:6:16: settings.gravity[1]: in expression \"down\": unknown name \"down\"; expected a parameter from [parameters]",
     ),
     (
         "gravity_junk_component",
@@ -138,6 +182,22 @@ const CASES: &[(&str, &str)] = &[
         "tests/bad_models/non_finite_mass.toml:10:8: bodies.crank.mass: expected a finite mass (kg), found NaN",
     ),
     (
+        "output_name_space",
+        "tests/bad_models/output_name_space.toml:28:8: outputs[0].name: invalid output name \"coupler tip\": a space is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
+    ),
+    (
+        "output_unknown_point",
+        "tests/bad_models/output_unknown_point.toml:30:9: outputs.tip.point: unknown point \"B\" on body \"crank\" in output \"tip\"; body \"crank\" has points A, O",
+    ),
+    (
+        "parameter_cycle",
+        "tests/bad_models/parameter_cycle.toml:6:1: parameters.L: parameters refer to each other in a cycle: L -> m -> L",
+    ),
+    (
+        "parameter_reserved_name",
+        "tests/bad_models/parameter_reserved_name.toml:7:1: parameters.theta: invalid parameter name \"theta\": \"theta\" is reserved for the run-time quantity of that name in force expressions",
+    ),
+    (
         "point_name_space",
         "tests/bad_models/point_name_space.toml:12:12: bodies.link.points.\"P 1\": invalid point name \"P 1\" on body \"link\": a space is not allowed; expected 1 to 64 ASCII letters, digits, '_' or '-', starting with a letter or digit",
     ),
@@ -150,12 +210,32 @@ const CASES: &[(&str, &str)] = &[
         "tests/bad_models/poisson_ratio_minus_one.toml:24:17: joints.C.poisson_ratio: expected a Poisson ratio in (-1, 0.5), found -1",
     ),
     (
+        "repeat_name_not_integer",
+        "tests/bad_models/repeat_name_not_integer.toml:33:8: repeat[0].bodies[0].name: {i/2} in name template \"b{i/2}\" is 0.5; expected an integer (in [[repeat]] with i = 1)",
+    ),
+    (
+        "repeat_non_integer_bound",
+        "tests/bad_models/repeat_non_integer_bound.toml:30:6: repeat[0].to: expected an integer `to` of at most 1e6 in magnitude, found 2.1",
+    ),
+    (
+        "repeat_unknown_point",
+        "tests/bad_models/repeat_unknown_point.toml:45:11: repeat[0].joints[0].point_b: unknown point \"Q\" on body \"b1\" in joint \"j1\"; body \"b1\" has points P (in [[repeat]] with i = 1)",
+    ),
+    (
         "stiffness_absurd",
         "tests/bad_models/stiffness_absurd.toml:24:13: joints.C.stiffness: expected a contact stiffness K (N/m^n) in [1e2, 1e18] (the range the material and size bounds give), found 1e30",
     ),
     (
         "syntax_error",
         "tests/bad_models/syntax_error.toml:6:26: (TOML syntax): missing comma between array elements, expected `,`",
+    ),
+    (
+        "table_lengths_differ",
+        "tests/bad_models/table_lengths_differ.toml:30:5: tables.gas.y: table \"gas\" has 3 x and 2 y values; expected as many of each, at least 2",
+    ),
+    (
+        "table_not_increasing",
+        "tests/bad_models/table_not_increasing.toml:29:12: tables.gas.x[2]: table \"gas\": x[2] = 1 is not above x[1] = 2; expected strictly increasing x",
     ),
     (
         "two_drivers_one_loop",
@@ -183,7 +263,7 @@ const CASES: &[(&str, &str)] = &[
     ),
     (
         "wrong_type",
-        "tests/bad_models/wrong_type.toml:10:8: bodies.crank.mass: invalid type: string \"heavy\", expected f64",
+        "tests/bad_models/wrong_type.toml:10:8: bodies.crank.mass: invalid type: boolean `true`, expected a number or an expression string such as \"L2/2\"",
     ),
     (
         "youngs_modulus_absurd",

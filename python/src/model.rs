@@ -9,7 +9,7 @@ use crate::settings::{Solve, columns};
 use crate::sweep::{self, Progress, SweepArgs};
 use linkdyn::Error;
 use linkdyn::formulation::{Dae, DaeOptions};
-use linkdyn::model::{ForceElement, JointKind, Model};
+use linkdyn::model::{JointKind, Model};
 use linkdyn::simulation::Simulation;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -131,11 +131,7 @@ impl PyModel {
     fn forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
         for f in &self.model.forces {
-            let (name, kind) = match f {
-                ForceElement::SpringDamper { name, .. } => (name, "spring-damper"),
-                ForceElement::Torque { name, .. } => (name, "torque"),
-                ForceElement::PointForce { name, .. } => (name, "force"),
-            };
+            let (name, kind) = (f.name(), f.type_name());
             let d = PyDict::new(py);
             d.set_item("name", name)?;
             d.set_item("type", kind)?;

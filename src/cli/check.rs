@@ -3,7 +3,7 @@
 use super::{Failure, in_model};
 use clap::Args;
 use linkdyn::formulation::{Dae, DaeOptions};
-use linkdyn::model::{ForceElement, JointKind};
+use linkdyn::model::JointKind;
 use std::path::PathBuf;
 
 /// Arguments of `check`.
@@ -60,13 +60,20 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
             j.b.point
         );
     }
+    if !model.parameters.is_empty() {
+        let listed: Vec<String> = model
+            .parameters
+            .iter()
+            .map(|(n, v)| format!("{n} = {v}"))
+            .collect();
+        println!("parameters: {}", listed.join(", "));
+    }
     println!("drivers: {}", model.drivers.len());
     for d in &model.drivers {
         println!(
-            "  {:<12} constant speed {} rad/s ({:.4} rpm) on joint {}, from {} rad",
+            "  {:<12} {} on joint {}, from {} rad",
             d.name,
-            d.speed,
-            d.speed * 30.0 / std::f64::consts::PI,
+            d.describe(),
             model.joint(d.joint).name,
             d.initial_angle
         );
@@ -78,12 +85,16 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
         model.settings.gravity[1]
     );
     for f in &model.forces {
-        let (name, kind) = match f {
-            ForceElement::SpringDamper { name, .. } => (name, "spring-damper"),
-            ForceElement::Torque { name, .. } => (name, "torque"),
-            ForceElement::PointForce { name, .. } => (name, "force"),
-        };
-        println!("  {name:<12} {kind}");
+        println!("  {:<12} {}", f.name(), f.type_name());
+    }
+    for o in &model.outputs {
+        println!(
+            "output point {} on {} at [{}, {}] m",
+            o.name,
+            model.frame_name(o.at.frame),
+            o.at.local[0],
+            o.at.local[1]
+        );
     }
     let set = dae.constraints();
     let redundant: Vec<String> = dae

@@ -25,8 +25,8 @@ use super::contacts::ContactSites;
 use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
 use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
-use crate::mechanics::planar::point_state;
-use crate::model::{Baumgarte, JointKind, Model};
+use crate::mechanics::planar::{point_acceleration, point_state};
+use crate::model::{Baumgarte, Frame, JointKind, Model};
 use std::cell::RefCell;
 
 use super::cholesky;
@@ -234,7 +234,7 @@ impl Dae {
             *sc = q[3 * i + 2].sin_cos();
         }
         self.applied
-            .evaluate_into(q, v, &work.sin_cos, &mut work.forces);
+            .evaluate_into(t, q, v, &work.sin_cos, &mut work.forces);
         let contact_dissipation = if self.contacts.is_empty() {
             0.0
         } else {
@@ -332,7 +332,7 @@ impl Dae {
                     driver_power -= work.lambda[i] * ce.rows[ri].dot_velocity(v);
                 }
             }
-            let (external, damping) = self.applied.power_split(q, v, &work.sin_cos);
+            let (external, damping) = self.applied.power_split(t, q, v, &work.sin_cos);
             work.energy_rates = [driver_power, external, contact_dissipation + damping];
         }
         if !self.contacts.is_empty() {
@@ -447,7 +447,8 @@ impl Dae {
 
 impl Outputs for Dae {
     /// Names of the output columns, in order: per body `B.x B.y B.phi B.vx B.vy B.omega B.ax B.ay
-    /// B.alpha`, per ideal joint `J.fx J.fy`, per driver `D.torque`.
+    /// B.alpha`, per ideal joint `J.fx J.fy`, per driver `D.torque`, per clearance joint, the
+    /// energy columns if kept, and last per output point `P.x P.y P.vx P.vy P.ax P.ay`.
     fn output_names(&self) -> Vec<String> {
         let mut names = Vec::new();
         for b in &self.model.bodies {
@@ -472,6 +473,11 @@ impl Outputs for Dae {
         }
         if self.energy {
             names.extend(ENERGY_COLUMNS.iter().map(|c| c.to_string()));
+        }
+        for o in &self.model.outputs {
+            for c in ["x", "y", "vx", "vy", "ax", "ay"] {
+                names.push(format!("{}.{c}", o.name));
+            }
         }
         names
     }
@@ -505,6 +511,32 @@ impl Outputs for Dae {
         }
         if self.energy {
             out.extend_from_slice(&self.energy_columns(y));
+        }
+        // Output points ([[outputs]]): position, velocity and acceleration of a body point.
+        for o in &self.model.outputs {
+            let Frame::Body(id) = o.at.frame else {
+                continue;
+            };
+            let i = 3 * id.0;
+            let sin_cos = [y[i + 2].sin_cos()];
+            let local_q = [y[i], y[i + 1], y[i + 2]];
+            let local_v = [y[n + i], y[n + i + 1], y[n + i + 2]];
+            let local = Frame::Body(crate::model::BodyId(0));
+            let p = point_state(local, o.at.local, &local_q, &local_v, &sin_cos);
+            let acc = [
+                eval.acceleration[i],
+                eval.acceleration[i + 1],
+                eval.acceleration[i + 2],
+            ];
+            let a = point_acceleration(&p, acc);
+            out.extend_from_slice(&[
+                p.position[0],
+                p.position[1],
+                p.velocity[0],
+                p.velocity[1],
+                a[0],
+                a[1],
+            ]);
         }
         Ok(eval.phi.iter().fold(0.0_f64, |m, p| m.max(p.abs())))
     }

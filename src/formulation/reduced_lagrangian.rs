@@ -507,7 +507,28 @@ impl ReducedLagrangian {
                         "force \"{name}\" is a spring-damper; only gravity, constant torques and constant point forces are supported"
                     )));
                 }
+                other @ (ForceElement::TorqueLaw { .. }
+                | ForceElement::ForceLaw { .. }
+                | ForceElement::Motor { .. }) => {
+                    return Err(unsupported(format!(
+                        "{} \"{}\" is an expression of time or state; only gravity, constant torques and constant point forces are supported (use the DAE formulation)",
+                        other.type_name(),
+                        other.name()
+                    )));
+                }
             }
+        }
+        if !matches!(driver.motion, crate::model::DriverMotion::ConstantSpeed) {
+            return Err(unsupported(format!(
+                "driver \"{}\" is not a constant-speed driver; the reduced formulation integrates the four-bar at a constant crank speed (use the DAE formulation)",
+                driver.name
+            )));
+        }
+        if let Some(o) = model.outputs.first() {
+            return Err(unsupported(format!(
+                "output point \"{}\" is not reported by the reduced formulation (use the DAE formulation)",
+                o.name
+            )));
         }
 
         let mut reduced = ReducedLagrangian {
@@ -1462,7 +1483,7 @@ mod tests {
                         let v = [b.vx - b.omega * arm[1], b.vy + b.omega * arm[0]];
                         load_power += dot(*force, v);
                     }
-                    ForceElement::SpringDamper { .. } => {}
+                    _ => {}
                 }
             }
             let power = o.crank_torque * o.theta2_dot + load_power;

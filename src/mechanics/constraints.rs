@@ -9,7 +9,8 @@
 //! - revolute (2): P_b − P_a − e₀ = 0, P = r + A(φ) s (e₀ = 0 except when a clearance joint is
 //!   assembled as a revolute joint with a prescribed initial eccentricity);
 //! - prismatic (2): φ_b − φ_a − θ = 0 and n_a · (P_b − P_a) = 0 with n_a = A(φ_a) n̄, n̄ ⟂ axis;
-//! - constant-speed driver (1): φ_b − φ_a − (θ₀ + ω t) = 0.
+//! - driver (1): φ_b − φ_a − θ(t) = 0, θ(t) from [`super::drivers::driver_angle`] (θ₀ + ω t at
+//!   constant speed), so Φ_t = −θ̇ and γ = θ̈.
 //!
 //! # References
 //! 1. P. E. Nikravesh, *Computer-Aided Analysis of Mechanical Systems*, 1988, §3.3–3.6 (joint
@@ -32,7 +33,7 @@ pub enum RowSource {
     PrismaticAngle(JointId),
     /// Prismatic joint: point b on the sliding line.
     PrismaticNormal(JointId),
-    /// Constant-speed driver (index into `Model::drivers`).
+    /// Driver (index into `Model::drivers`).
     Driver(usize),
 }
 
@@ -88,8 +89,7 @@ enum Element {
     Driver {
         a: Frame,
         b: Frame,
-        theta0: f64,
-        omega: f64,
+        driver: Box<crate::model::Driver>,
     },
 }
 
@@ -192,8 +192,7 @@ impl ConstraintSet {
             elements.push(Element::Driver {
                 a: j.a.frame,
                 b: j.b.frame,
-                theta0: d.initial_angle,
-                omega: d.speed,
+                driver: Box::new(d.clone()),
             });
             sources.push(RowSource::Driver(k));
         }
@@ -329,13 +328,8 @@ impl ConstraintSet {
                         + dot(n, centripetal);
                     k += 2;
                 }
-                Element::Driver {
-                    a,
-                    b,
-                    theta0,
-                    omega,
-                    ..
-                } => {
+                Element::Driver { a, b, driver } => {
+                    let [theta, theta_dot, theta_ddot] = super::drivers::driver_angle(driver, t);
                     let (phi_a, w_a) = angle_of(*a, q, v);
                     let (phi_b, w_b) = angle_of(*b, q, v);
                     let row = &mut out.rows[k];
@@ -343,10 +337,11 @@ impl ConstraintSet {
                     row.body_b = body_index(*b);
                     row.jac_a = [0.0, 0.0, -1.0];
                     row.jac_b = [0.0, 0.0, 1.0];
-                    out.phi[k] = phi_b - phi_a - (theta0 + omega * t);
-                    out.phi_t[k] = -omega;
-                    out.phi_dot[k] = w_b - w_a - omega;
-                    out.gamma[k] = 0.0;
+                    out.phi[k] = phi_b - phi_a - theta;
+                    out.phi_t[k] = -theta_dot;
+                    out.phi_dot[k] = w_b - w_a - theta_dot;
+                    // Φ_tt = −θ̈, and γ = −Φ_tt.
+                    out.gamma[k] = theta_ddot;
                     k += 1;
                 }
             }

@@ -2,9 +2,42 @@
 //!
 //! A force F at a body point with arm A s from the centre of mass contributes (F_x, F_y, (A s) × F).
 //! Sign convention: counter-clockwise moments are positive.
+//!
+//! Forces and torques given as expressions of time and state (`torque = "-k*crank.phi"`,
+//! `force = ["-gas(mod(theta, 4*pi))", 0]`) are evaluated at every call from (t, q, q̇): the
+//! variables are read by [`state_variable`]. A torque driver (motor) on a revolute joint
+//! applies +τ(t, θ, ω) to the joint's second body and −τ to its first, with θ = φ_b − φ_a and
+//! ω = θ̇: the pair does no net work on the ground, and its power is τ ω.
 
 use super::planar::{cross, point_state};
-use crate::model::{Anchor, ForceElement, Frame, Model};
+use crate::model::{Anchor, Expr, ForceElement, Frame, Model, Variable};
+
+/// Value of a run-time variable of an expression at (t, q, q̇).
+pub fn state_variable(var: Variable, t: f64, q: &[f64], v: &[f64]) -> f64 {
+    let angle = |f: Frame, s: &[f64]| match f {
+        Frame::Ground => 0.0,
+        Frame::Body(id) => s.get(3 * id.0 + 2).copied().unwrap_or(f64::NAN),
+    };
+    match var {
+        Variable::Time => t,
+        Variable::Body { body, field } => {
+            let (s, k) = if field < 3 {
+                (q, field)
+            } else {
+                (v, field - 3)
+            };
+            s.get(3 * body.0 + k).copied().unwrap_or(f64::NAN)
+        }
+        Variable::JointAngle { a, b } => angle(b, q) - angle(a, q),
+        Variable::JointSpeed { a, b } => angle(b, v) - angle(a, v),
+    }
+}
+
+/// An expression evaluated at (t, q, q̇).
+#[inline]
+fn at_state(e: &Expr, t: f64, q: &[f64], v: &[f64]) -> f64 {
+    e.eval(&|var| state_variable(var, t, q, v))
+}
 
 /// Gravity and the model's force elements, ready to evaluate.
 #[derive(Debug, Clone)]
@@ -28,8 +61,15 @@ impl AppliedForces {
         }
     }
 
-    /// Writes Q(q, q̇) into `out` (length 3 × bodies), overwriting it.
-    pub fn evaluate_into(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)], out: &mut [f64]) {
+    /// Writes Q(t, q, q̇) into `out` (length 3 × bodies), overwriting it.
+    pub fn evaluate_into(
+        &self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        sin_cos: &[(f64, f64)],
+        out: &mut [f64],
+    ) {
         for (i, w) in self.weights.iter().enumerate() {
             out[3 * i] = w[0];
             out[3 * i + 1] = w[1];
@@ -40,6 +80,25 @@ impl AppliedForces {
                 ForceElement::Torque { body, torque, .. } => out[3 * body.0 + 2] += torque,
                 ForceElement::PointForce { at, force, .. } => {
                     add_point_force(at, *force, q, v, sin_cos, out)
+                }
+                ForceElement::TorqueLaw { body, torque, .. } => {
+                    out[3 * body.0 + 2] += at_state(&torque.tree, t, q, v)
+                }
+                ForceElement::ForceLaw { at, force, .. } => {
+                    let f = [
+                        at_state(&force[0].tree, t, q, v),
+                        at_state(&force[1].tree, t, q, v),
+                    ];
+                    add_point_force(at, f, q, v, sin_cos, out)
+                }
+                ForceElement::Motor { a, b, torque, .. } => {
+                    let tau = at_state(&torque.tree, t, q, v);
+                    if let Frame::Body(id) = b {
+                        out[3 * id.0 + 2] += tau;
+                    }
+                    if let Frame::Body(id) = a {
+                        out[3 * id.0 + 2] -= tau;
+                    }
                 }
                 ForceElement::SpringDamper {
                     a,
@@ -67,7 +126,7 @@ impl AppliedForces {
     /// Power of the constant torques and point forces (W) and the rate at which the dampers of
     /// spring-dampers dissipate energy (W, ≥ 0), for energy bookkeeping. Gravity and spring
     /// stiffness are conservative: see [`AppliedForces::potential_energy`].
-    pub fn power_split(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> (f64, f64) {
+    pub fn power_split(&self, t: f64, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> (f64, f64) {
         let (mut external, mut damping) = (0.0, 0.0);
         for e in &self.elements {
             match e {
@@ -75,6 +134,18 @@ impl AppliedForces {
                 ForceElement::PointForce { at, force, .. } => {
                     let p = point_state(at.frame, at.local, q, v, sin_cos);
                     external += force[0] * p.velocity[0] + force[1] * p.velocity[1];
+                }
+                ForceElement::TorqueLaw { body, torque, .. } => {
+                    external += at_state(&torque.tree, t, q, v) * v[3 * body.0 + 2]
+                }
+                ForceElement::ForceLaw { at, force, .. } => {
+                    let p = point_state(at.frame, at.local, q, v, sin_cos);
+                    external += at_state(&force[0].tree, t, q, v) * p.velocity[0]
+                        + at_state(&force[1].tree, t, q, v) * p.velocity[1];
+                }
+                ForceElement::Motor { a, b, torque, .. } => {
+                    let omega = state_variable(Variable::JointSpeed { a: *a, b: *b }, t, q, v);
+                    external += at_state(&torque.tree, t, q, v) * omega;
                 }
                 ForceElement::SpringDamper {
                     a, b, damping: c, ..

@@ -76,3 +76,15 @@ pub fn point_state(
         }
     }
 }
+
+/// Acceleration of a body point (m/s²): P̈ = r̈ + φ̈ perp(A s) − φ̇² A s, from the point's
+/// state and the body's accelerations (ẍ, ÿ, φ̈).
+#[inline]
+pub fn point_acceleration(p: &PointState, body_acc: [f64; 3]) -> [f64; 2] {
+    let u = perp(p.arm);
+    let w2 = p.omega * p.omega;
+    [
+        body_acc[0] + body_acc[2] * u[0] - w2 * p.arm[0],
+        body_acc[1] + body_acc[2] * u[1] - w2 * p.arm[1],
+    ]
+}

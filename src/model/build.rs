@@ -6,23 +6,68 @@
 
 use super::bounds::*;
 use super::error::ModelError;
+use super::expr::{self, Expr, ExprError, Table};
 use super::file::*;
 use super::laws;
 use super::locate::Locator;
 use super::names;
+use super::params::{self, RunScope, Values};
 use super::suggest::did_you_mean;
 use super::types::*;
 use std::collections::HashSet;
 use std::ops::Range;
+use std::sync::Arc;
 use toml::Spanned;
 
 /// Builds the model, refusing the first problem found.
 pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<Model, ModelError> {
-    let b = Builder { loc };
+    let plain = Builder {
+        loc,
+        values: Values::default(),
+        repeat: None,
+    };
+    let parameters = plain.parameters(&raw.parameters)?;
+    let mut values = Values {
+        values: parameters.clone(),
+        tables: Vec::new(),
+    };
+    values.tables = Builder {
+        loc,
+        values: values.clone(),
+        repeat: None,
+    }
+    .tables(&raw.tables)?;
+    let b = Builder {
+        loc,
+        values,
+        repeat: None,
+    };
     let name = b.name_on(&raw.model.name, "model", "")?;
     let settings = b.settings(&raw.settings)?;
-    let ground_points = b.points(&raw.ground.points, "ground")?;
-    let bodies = b.bodies(&raw.bodies)?;
+    // Each [[repeat]] expands into one builder per index value, whose names substitute `{…}`.
+    let mut repeats = Vec::with_capacity(raw.repeat.len());
+    for r in &raw.repeat {
+        for rb in b.repeat(r)? {
+            repeats.push((rb, r));
+        }
+    }
+    let mut ground_points = b.points(&raw.ground.points, "ground")?;
+    for (rb, r) in &repeats {
+        ground_points.extend(rb.points(&r.ground.points, "ground")?);
+    }
+    let mut seen = HashSet::new();
+    for (name, _) in &ground_points {
+        if !seen.insert(name.as_str()) {
+            return Err(loc.whole(format!(
+                "ground point \"{name}\" is defined twice (in [ground] or a [repeat.ground]); expected unique names"
+            )));
+        }
+    }
+    let mut seen = HashSet::new();
+    let mut bodies = b.bodies(&raw.bodies, &mut seen)?;
+    for (rb, r) in &repeats {
+        bodies.extend(rb.bodies(&r.bodies, &mut seen)?);
+    }
     if bodies.is_empty() {
         return Err(loc.whole("expected at least one [[bodies]] entry"));
     }
@@ -30,9 +75,20 @@ pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<M
         ground_points: &ground_points,
         bodies: &bodies,
     };
-    let joints = b.joints(&raw.joints, &scope)?;
-    let drivers = b.drivers(&raw.drivers, &joints)?;
-    let forces = b.forces(&raw.forces, &scope)?;
+    let mut seen = HashSet::new();
+    let mut joints = b.joints(&raw.joints, &scope, &mut seen)?;
+    for (rb, r) in &repeats {
+        joints.extend(rb.joints(&r.joints, &scope, &mut seen)?);
+    }
+    let (drivers, motors) = b.drivers(&raw.drivers, &joints, &bodies)?;
+    let theta = single_driver(&drivers, &motors, &joints);
+    let mut seen: HashSet<String> = motors.iter().map(|m| m.name().to_string()).collect();
+    let mut forces = b.forces(&raw.forces, &scope, &theta, &mut seen)?;
+    for (rb, r) in &repeats {
+        forces.extend(rb.forces(&r.forces, &scope, &theta, &mut seen)?);
+    }
+    forces.extend(motors);
+    let outputs = b.outputs(&raw.outputs, &scope)?;
     Ok(Model {
         name,
         description: raw.model.description,
@@ -42,9 +98,35 @@ pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<M
         joints,
         drivers,
         forces,
+        outputs,
+        parameters,
         source,
         notes: Vec::new(),
     })
+}
+
+/// The joint whose angle and speed `theta` and `omega` name in force expressions: that of the
+/// model's single driver (kinematic or torque), or why there is none.
+fn single_driver(
+    drivers: &[Driver],
+    motors: &[ForceElement],
+    joints: &[Joint],
+) -> Result<(Frame, Frame), String> {
+    let mut driven: Vec<JointId> = drivers.iter().map(|d| d.joint).collect();
+    driven.extend(motors.iter().filter_map(|m| match m {
+        ForceElement::Motor { joint, .. } => Some(*joint),
+        _ => None,
+    }));
+    match driven.as_slice() {
+        [j] => joints
+            .get(j.0)
+            .map(|j| (j.a.frame, j.b.frame))
+            .ok_or_else(|| "the driver's joint is missing".to_string()),
+        other => Err(format!(
+            "`theta` and `omega` are the angle and speed of the model's single driver, but it has {}; write a body's angle instead, e.g. crank.phi",
+            other.len()
+        )),
+    }
 }
 
 /// Names a model may refer to.
@@ -55,17 +137,293 @@ struct Scope<'m> {
 
 struct Builder<'l, 'a> {
     loc: &'l Locator<'a>,
+    /// Parameters, tables and the repeat index.
+    values: Values,
+    /// Inside a `[[repeat]]`: its index name and value.
+    repeat: Option<(String, i64)>,
 }
 
 type Res<T> = Result<T, ModelError>;
 
 impl Builder<'_, '_> {
     fn err(&self, span: Range<usize>, message: impl Into<String>) -> ModelError {
-        self.loc.error(span, message)
+        match &self.repeat {
+            None => self.loc.error(span, message),
+            Some((index, i)) => self.loc.error(
+                span,
+                format!("{} (in [[repeat]] with {index} = {i})", message.into()),
+            ),
+        }
+    }
+
+    /// An error in the expression `text` written at `span`, at the offending token.
+    fn expr_err(&self, span: Range<usize>, text: &str, e: ExprError) -> ModelError {
+        let start = span.start + self.loc.string_body_offset(span.start) + e.offset;
+        self.err(
+            start..start + 1,
+            format!("in expression \"{text}\": {}", e.message),
+        )
+    }
+
+    /// The value of a number or of an expression of parameters.
+    fn number(&self, v: &Num) -> Res<f64> {
+        match v.get_ref() {
+            Scalar::Number(x) => Ok(*x),
+            Scalar::Expr(text) => self.static_expr(text, v.span()),
+        }
+    }
+
+    fn static_expr(&self, text: &str, span: Range<usize>) -> Res<f64> {
+        expr::parse(text)
+            .and_then(|n| n.resolve(&self.values))
+            .map(|e| e.constant().unwrap_or(f64::NAN))
+            .map_err(|e| self.expr_err(span, text, e))
+    }
+
+    /// A run-time expression (force, torque, prescribed angle): numbers stay numbers.
+    fn run_expr(&self, v: &Num, scope: &RunScope<'_>, what: &str) -> Res<Expression> {
+        let (text, tree) = match v.get_ref() {
+            Scalar::Number(x) => (format!("{x}"), Expr::Num(*x)),
+            Scalar::Expr(text) => (
+                text.clone(),
+                expr::parse(text)
+                    .and_then(|n| n.resolve(scope))
+                    .map_err(|e| self.expr_err(v.span(), text, e))?,
+            ),
+        };
+        if let Some(x) = tree.constant()
+            && !x.is_finite()
+        {
+            return Err(self.err(v.span(), format!("expected a finite {what}, found {x}")));
+        }
+        Ok(Expression { text, tree })
+    }
+
+    /// The text of a name; inside a `[[repeat]]`, every `{expr}` replaced by the integer value
+    /// of `expr` (the index and parameters).
+    fn text(&self, name: &Name) -> Res<String> {
+        let raw = name.get_ref();
+        if self.repeat.is_none() || !raw.contains('{') {
+            return Ok(raw.clone());
+        }
+        let mut out = String::with_capacity(raw.len());
+        let mut rest = raw.as_str();
+        let mut at = 0;
+        while let Some(open) = rest.find('{') {
+            out.push_str(&rest[..open]);
+            let Some(close) = rest[open..].find('}') else {
+                return Err(self.err(
+                    name.span(),
+                    format!("unclosed '{{' in name template \"{raw}\"; expected {{expression}}"),
+                ));
+            };
+            let inner = &rest[open + 1..open + close];
+            let inner_at = at + open + 1;
+            let x = expr::parse(inner)
+                .and_then(|n| n.resolve(&self.values))
+                .map(|e| e.constant().unwrap_or(f64::NAN))
+                .map_err(|mut e| {
+                    e.offset += inner_at;
+                    self.expr_err(name.span(), raw, e)
+                })?;
+            if !(x.is_finite() && (x - x.round()).abs() < 1e-9) {
+                return Err(self.err(
+                    name.span(),
+                    format!("{{{inner}}} in name template \"{raw}\" is {x}; expected an integer"),
+                ));
+            }
+            out.push_str(&format!("{}", x.round() as i64));
+            at += open + close + 1;
+            rest = &rest[open + close + 1..];
+        }
+        out.push_str(rest);
+        Ok(out)
+    }
+
+    /// `[parameters]`, evaluated.
+    fn parameters(&self, raw: &std::collections::BTreeMap<Name, Num>) -> Res<Vec<(String, f64)>> {
+        let entries: Vec<(&Name, &Num)> = raw.iter().collect();
+        for (name, _) in &entries {
+            params::check_name(name.get_ref()).map_err(|reason| {
+                self.err(
+                    name.span(),
+                    format!("invalid parameter name \"{}\": {reason}", name.get_ref()),
+                )
+            })?;
+        }
+        let list: Vec<params::RawParameter<'_>> = entries
+            .iter()
+            .map(|(n, v)| params::RawParameter {
+                name: n.get_ref(),
+                value: match v.get_ref() {
+                    Scalar::Number(x) => Ok(*x),
+                    Scalar::Expr(t) => Err(t.as_str()),
+                },
+            })
+            .collect();
+        let values = params::evaluate(&list).map_err(|e| {
+            let (name, v) = entries[e.index];
+            match (e.offset, v.get_ref()) {
+                (Some(offset), Scalar::Expr(text)) => self.expr_err(
+                    v.span(),
+                    text,
+                    ExprError {
+                        offset,
+                        message: e.message,
+                    },
+                ),
+                _ => self.err(name.span(), e.message),
+            }
+        })?;
+        for ((_, v), (name, x)) in entries.iter().zip(&values) {
+            if !x.is_finite() {
+                return Err(self.err(
+                    v.span(),
+                    format!("parameter {name} evaluates to {x}; expected a finite number"),
+                ));
+            }
+        }
+        Ok(values)
+    }
+
+    /// `[[tables]]`.
+    fn tables(&self, raw: &[TableFile]) -> Res<Vec<Arc<Table>>> {
+        let mut seen = HashSet::new();
+        let mut out = Vec::with_capacity(raw.len());
+        for t in raw {
+            let name = self.unique(&mut seen, &t.name, "table")?;
+            params::check_name(&name).map_err(|reason| {
+                self.err(
+                    t.name.span(),
+                    format!("invalid table name \"{name}\": {reason}"),
+                )
+            })?;
+            let list = |v: &Vec2, axis: &str| -> Res<Vec<f64>> {
+                v.get_ref()
+                    .iter()
+                    .map(|c| self.component(c, axis, &format!("table \"{name}\""))
+                        .and_then(|x| if x.is_finite() { Ok(x) } else {
+                            Err(self.err(c.span(), format!("expected a finite {axis} value in table \"{name}\", found {x}")))
+                        }))
+                    .collect()
+            };
+            let x = list(&t.x, "x")?;
+            let y = list(&t.y, "y")?;
+            if x.len() != y.len() || x.len() < 2 {
+                return Err(self.err(
+                    t.y.span(),
+                    format!(
+                        "table \"{name}\" has {} x and {} y values; expected as many of each, at least 2",
+                        x.len(),
+                        y.len()
+                    ),
+                ));
+            }
+            if let Some(k) = (1..x.len()).find(|&k| x[k] <= x[k - 1]) {
+                return Err(self.err(
+                    t.x.get_ref()[k].span(),
+                    format!(
+                        "table \"{name}\": x[{k}] = {} is not above x[{}] = {}; expected strictly increasing x",
+                        x[k],
+                        k - 1,
+                        x[k - 1]
+                    ),
+                ));
+            }
+            out.push(Arc::new(Table { name, x, y }));
+        }
+        Ok(out)
+    }
+
+    /// One builder per value of the index of a `[[repeat]]`.
+    fn repeat(&self, r: &RepeatFile) -> Res<Vec<Builder<'_, '_>>> {
+        let index = r.index.get_ref();
+        params::check_name(index).map_err(|reason| {
+            self.err(
+                r.index.span(),
+                format!("invalid repeat index \"{index}\": {reason}"),
+            )
+        })?;
+        if self.values.get(index).is_some() {
+            return Err(self.err(
+                r.index.span(),
+                format!("repeat index \"{index}\" is also a parameter; expected a name of its own"),
+            ));
+        }
+        let bound = |v: &Num, what: &str| -> Res<i64> {
+            let x = self.number(v)?;
+            if x.is_finite() && (x - x.round()).abs() < 1e-9 && x.abs() < 1e6 {
+                Ok(x.round() as i64)
+            } else {
+                Err(self.err(
+                    v.span(),
+                    format!("expected an integer `{what}` of at most 1e6 in magnitude, found {x}"),
+                ))
+            }
+        };
+        let (from, to) = (bound(&r.from, "from")?, bound(&r.to, "to")?);
+        if to < from {
+            return Err(self.err(
+                r.to.span(),
+                format!("repeat runs {index} from {from} to {to}; expected to ≥ from"),
+            ));
+        }
+        if to - from >= 100_000 {
+            return Err(self.err(
+                r.to.span(),
+                format!(
+                    "repeat runs {index} over {} values; expected at most 100000",
+                    to - from + 1
+                ),
+            ));
+        }
+        Ok((from..=to)
+            .map(|i| Builder {
+                loc: self.loc,
+                values: self.values.with(index, i as f64),
+                repeat: Some((index.clone(), i)),
+            })
+            .collect())
+    }
+
+    /// `[[outputs]]`.
+    fn outputs(&self, raw: &[OutputFile], scope: &Scope<'_>) -> Res<Vec<OutputPoint>> {
+        let mut seen = HashSet::new();
+        let mut out = Vec::with_capacity(raw.len());
+        for o in raw {
+            let name = self.unique(&mut seen, &o.name, "output")?;
+            if let Some(b) = scope.bodies.iter().find(|b| b.name == name) {
+                return Err(self.err(
+                    o.name.span(),
+                    format!("output name \"{name}\" is also a body's name (columns {}.x … would clash); expected a name of its own", b.name),
+                ));
+            }
+            let owner = format!("output \"{name}\"");
+            let body = self.body_of(scope, &o.body, &owner)?;
+            let at = match (&o.point, &o.local) {
+                (Some(p), None) => self.anchor(scope, &o.body, p, &owner)?,
+                (None, Some(local)) => Anchor {
+                    frame: Frame::Body(body),
+                    point: name.clone(),
+                    local: self.vec2(local, "local point (m)")?,
+                },
+                (Some(_), Some(l)) => {
+                    return Err(self.err(l.span(), "give either `point` (a named point of the body) or `local` ([x, y] in the body frame), not both"));
+                }
+                (None, None) => {
+                    return Err(self.err(
+                        o.name.span(),
+                        format!("missing field `point` or `local` of {owner}"),
+                    ));
+                }
+            };
+            out.push(OutputPoint { name, at });
+        }
+        Ok(out)
     }
 
     fn finite(&self, v: &Num, what: &str) -> Res<f64> {
-        let x = *v.get_ref();
+        let x = self.number(v)?;
         if x.is_finite() {
             Ok(x)
         } else {
@@ -143,6 +501,7 @@ impl Builder<'_, '_> {
             toml::Value::Float(x) => Ok(*x),
             // An integer is read as the float nearest it, as serde does for f64 fields.
             toml::Value::Integer(i) => Ok(*i as f64),
+            toml::Value::String(text) => self.static_expr(text, v.span()),
             other => Err(self.err(
                 v.span(),
                 format!(
@@ -156,7 +515,7 @@ impl Builder<'_, '_> {
     /// A name that follows [`names::check`]: it heads CSV columns and provenance lines.
     /// `owner` is empty or e.g. ` on body "crank"`.
     fn name_on(&self, name: &Name, what: &str, owner: &str) -> Res<String> {
-        let n = name.get_ref();
+        let n = &self.text(name)?;
         names::check(n).map_err(|reason| {
             self.err(
                 name.span(),
@@ -235,11 +594,10 @@ impl Builder<'_, '_> {
         Ok(out)
     }
 
-    fn bodies(&self, raw: &[BodyFile]) -> Res<Vec<Body>> {
-        let mut seen = HashSet::new();
+    fn bodies(&self, raw: &[BodyFile], seen: &mut HashSet<String>) -> Res<Vec<Body>> {
         let mut bodies = Vec::with_capacity(raw.len());
         for b in raw {
-            let name = self.unique(&mut seen, &b.name, "body")?;
+            let name = self.unique(seen, &b.name, "body")?;
             if name == "ground" {
                 return Err(self.err(
                     b.name.span(),
@@ -292,8 +650,10 @@ impl Builder<'_, '_> {
 
     /// Resolves `body` and `point` names to an anchor; `owner` is e.g. `joint "A"`.
     fn anchor(&self, scope: &Scope<'_>, body: &Name, point: &Name, owner: &str) -> Res<Anchor> {
-        let body_name = body.get_ref().trim();
-        let point_name = point.get_ref().trim();
+        let body_name = &self.text(body)?;
+        let body_name = body_name.trim();
+        let point_name = &self.text(point)?;
+        let point_name = point_name.trim();
         let (frame, points, where_) = if body_name == "ground" {
             (Frame::Ground, scope.ground_points, "[ground]".to_string())
         } else {
@@ -375,11 +735,15 @@ impl Builder<'_, '_> {
             .ok_or_else(|| self.err(at, format!("missing field `{field}` of {what}")))
     }
 
-    fn joints(&self, raw: &[JointFile], scope: &Scope<'_>) -> Res<Vec<Joint>> {
-        let mut seen = HashSet::new();
+    fn joints(
+        &self,
+        raw: &[JointFile],
+        scope: &Scope<'_>,
+        seen: &mut HashSet<String>,
+    ) -> Res<Vec<Joint>> {
         let mut joints = Vec::with_capacity(raw.len());
         for j in raw {
-            let name = self.unique(&mut seen, &j.name, "joint")?;
+            let name = self.unique(seen, &j.name, "joint")?;
             let owner = format!("joint \"{name}\"");
             let sp = |o: &Option<Name>| o.as_ref().map(|v| v.span());
             let sn = |o: &Option<Num>| o.as_ref().map(|v| v.span());
@@ -812,20 +1176,64 @@ impl Builder<'_, '_> {
         }
     }
 
-    fn drivers(&self, raw: &[DriverFile], joints: &[Joint]) -> Res<Vec<Driver>> {
+    /// Kinematic drivers, and torque drivers as [`ForceElement::Motor`].
+    fn drivers(
+        &self,
+        raw: &[DriverFile],
+        joints: &[Joint],
+        bodies: &[Body],
+    ) -> Res<(Vec<Driver>, Vec<ForceElement>)> {
         let mut seen = HashSet::new();
         let mut driven = HashSet::new();
         let mut drivers = Vec::with_capacity(raw.len());
+        let mut motors = Vec::new();
         for d in raw {
             let name = self.unique(&mut seen, &d.name, "driver")?;
             let kind = d.kind.get_ref().trim();
-            if kind != "constant-speed" {
+            const KINDS: [&str; 4] = ["constant-speed", "speed-ramp", "prescribed-angle", "torque"];
+            if !KINDS.contains(&kind) {
                 return Err(self.err(
                     d.kind.span(),
-                    format!("unknown driver type \"{kind}\"; expected \"constant-speed\""),
+                    format!(
+                        "unknown driver type \"{kind}\"; expected one of {}{}",
+                        KINDS.join(", "),
+                        did_you_mean(kind, KINDS)
+                    ),
                 ));
             }
-            let joint_name = d.joint.get_ref().trim();
+            let sn = |o: &Option<Num>| o.as_ref().map(|v| v.span());
+            let present = [
+                ("speed_rpm", sn(&d.speed_rpm)),
+                ("speed", sn(&d.speed)),
+                ("initial_angle", sn(&d.initial_angle)),
+                ("speed0", sn(&d.speed0)),
+                ("speed1", sn(&d.speed1)),
+                ("speed0_rpm", sn(&d.speed0_rpm)),
+                ("speed1_rpm", sn(&d.speed1_rpm)),
+                ("start", sn(&d.start)),
+                ("duration", sn(&d.duration)),
+                ("shape", d.shape.as_ref().map(|v| v.span())),
+                ("angle", sn(&d.angle)),
+                ("torque", sn(&d.torque)),
+            ];
+            let allowed: &[&str] = match kind {
+                "constant-speed" => &["speed_rpm", "speed", "initial_angle"],
+                "speed-ramp" => &[
+                    "speed0",
+                    "speed1",
+                    "speed0_rpm",
+                    "speed1_rpm",
+                    "start",
+                    "duration",
+                    "shape",
+                    "initial_angle",
+                ],
+                "prescribed-angle" => &["angle"],
+                _ => &["torque"],
+            };
+            self.only_fields(&present, allowed, &format!("{kind} driver"))?;
+            let joint_name = self.text(&d.joint)?;
+            let joint_name = joint_name.trim();
             let id = joints
                 .iter()
                 .position(|j| j.name == joint_name)
@@ -842,7 +1250,7 @@ impl Builder<'_, '_> {
                 return Err(self.err(
                     d.joint.span(),
                     format!(
-                        "driver \"{name}\" drives joint \"{joint_name}\", which is {}; a constant-speed driver needs a revolute joint",
+                        "driver \"{name}\" drives joint \"{joint_name}\", which is {}; a {kind} driver needs a revolute joint",
                         joints[id].kind.type_name()
                     ),
                 ));
@@ -855,45 +1263,153 @@ impl Builder<'_, '_> {
                     ),
                 ));
             }
-            let speed = match (&d.speed_rpm, &d.speed) {
-                (Some(rpm), None) => self.finite(rpm, "speed_rpm")? * std::f64::consts::PI / 30.0,
-                (None, Some(w)) => self.finite(w, "speed (rad/s)")?,
-                (Some(_), Some(w)) => {
-                    return Err(self.err(
-                        w.span(),
-                        "give either `speed_rpm` or `speed` (rad/s), not both",
-                    ));
+            let initial_angle = || -> Res<f64> {
+                Ok(d.initial_angle
+                    .as_ref()
+                    .map(|v| self.finite(v, "initial angle (rad)"))
+                    .transpose()?
+                    .unwrap_or(0.0))
+            };
+            let joint = &joints[id];
+            let (speed, initial_angle, motion) = match kind {
+                "constant-speed" => (
+                    self.speed(&d.speed_rpm, &d.speed, "speed", &name, d.name.span())?,
+                    initial_angle()?,
+                    DriverMotion::ConstantSpeed,
+                ),
+                "speed-ramp" => {
+                    let speed0 =
+                        self.speed(&d.speed0_rpm, &d.speed0, "speed0", &name, d.name.span())?;
+                    let speed1 =
+                        self.speed(&d.speed1_rpm, &d.speed1, "speed1", &name, d.name.span())?;
+                    let what = format!("speed-ramp driver \"{name}\"");
+                    let duration = self.positive(
+                        self.required(&d.duration, "duration", &what, d.name.span())?,
+                        "ramp duration (s)",
+                    )?;
+                    let start = d
+                        .start
+                        .as_ref()
+                        .map(|v| self.non_negative(v, "ramp start (s)"))
+                        .transpose()?
+                        .unwrap_or(0.0);
+                    let smooth = match d.shape.as_ref().map(|s| (s.get_ref().trim(), s.span())) {
+                        None | Some(("smooth", _)) => true,
+                        Some(("linear", _)) => false,
+                        Some((other, span)) => {
+                            return Err(self.err(
+                                span,
+                                format!(
+                                    "unknown ramp shape \"{other}\"; expected \"smooth\" or \"linear\"{}",
+                                    did_you_mean(other, ["smooth", "linear"])
+                                ),
+                            ));
+                        }
+                    };
+                    (
+                        speed1,
+                        initial_angle()?,
+                        DriverMotion::SpeedRamp {
+                            speed0,
+                            speed1,
+                            start,
+                            duration,
+                            smooth,
+                        },
+                    )
                 }
-                (None, None) => {
-                    return Err(self.err(
-                        d.name.span(),
-                        format!(
-                            "missing field `speed_rpm` or `speed` (rad/s) of driver \"{name}\""
-                        ),
-                    ));
+                "prescribed-angle" => {
+                    let what = format!("prescribed-angle driver \"{name}\"");
+                    let angle = self.required(&d.angle, "angle", &what, d.name.span())?;
+                    let scope = RunScope {
+                        values: &self.values,
+                        bodies,
+                        driver: Err(String::new()),
+                        time_only: true,
+                    };
+                    let e = self.run_expr(angle, &scope, "angle (rad)")?;
+                    let [theta0, ..] = e.tree.eval_jet(0.0).0;
+                    if !theta0.is_finite() {
+                        return Err(self.err(
+                            angle.span(),
+                            format!(
+                                "prescribed angle is {theta0} at t = 0; expected a finite angle"
+                            ),
+                        ));
+                    }
+                    (0.0, theta0, DriverMotion::PrescribedAngle(e))
+                }
+                _ => {
+                    let what = format!("torque driver \"{name}\"");
+                    let torque = self.required(&d.torque, "torque", &what, d.name.span())?;
+                    let scope = RunScope {
+                        values: &self.values,
+                        bodies,
+                        driver: Ok((joint.a.frame, joint.b.frame)),
+                        time_only: false,
+                    };
+                    motors.push(ForceElement::Motor {
+                        name,
+                        joint: JointId(id),
+                        a: joint.a.frame,
+                        b: joint.b.frame,
+                        torque: self.run_expr(torque, &scope, "torque (N·m)")?,
+                    });
+                    continue;
                 }
             };
-            let initial_angle = d
-                .initial_angle
-                .as_ref()
-                .map(|v| self.finite(v, "initial angle (rad)"))
-                .transpose()?
-                .unwrap_or(0.0);
             drivers.push(Driver {
                 name,
                 joint: JointId(id),
                 speed,
                 initial_angle,
+                motion,
             });
         }
-        Ok(drivers)
+        Ok((drivers, motors))
     }
 
-    fn forces(&self, raw: &[ForceFile], scope: &Scope<'_>) -> Res<Vec<ForceElement>> {
-        let mut seen = HashSet::new();
+    /// A speed given in rpm (`{field}_rpm`) or rad/s (`{field}`), exactly one of them.
+    fn speed(
+        &self,
+        rpm: &Option<Num>,
+        rad_s: &Option<Num>,
+        field: &str,
+        name: &str,
+        at: Range<usize>,
+    ) -> Res<f64> {
+        match (rpm, rad_s) {
+            (Some(rpm), None) => {
+                Ok(self.finite(rpm, &format!("{field}_rpm"))? * std::f64::consts::PI / 30.0)
+            }
+            (None, Some(w)) => self.finite(w, &format!("{field} (rad/s)")),
+            (Some(_), Some(w)) => Err(self.err(
+                w.span(),
+                format!("give either `{field}_rpm` or `{field}` (rad/s), not both"),
+            )),
+            (None, None) => Err(self.err(
+                at,
+                format!("missing field `{field}_rpm` or `{field}` (rad/s) of driver \"{name}\""),
+            )),
+        }
+    }
+
+    fn forces(
+        &self,
+        raw: &[ForceFile],
+        scope: &Scope<'_>,
+        theta: &Result<(Frame, Frame), String>,
+        seen: &mut HashSet<String>,
+    ) -> Res<Vec<ForceElement>> {
+        let run = RunScope {
+            values: &self.values,
+            bodies: scope.bodies,
+            driver: theta.clone(),
+            time_only: false,
+        };
         let mut forces = Vec::with_capacity(raw.len());
         for f in raw {
-            let name = self.unique(&mut seen, &f.name, "force")?;
+            let name = self.unique(seen, &f.name, "force")?;
             let owner = format!("force \"{name}\"");
             let sp = |o: &Option<Name>| o.as_ref().map(|v| v.span());
             let sn = |o: &Option<Num>| o.as_ref().map(|v| v.span());
@@ -959,13 +1475,14 @@ impl Builder<'_, '_> {
                     self.only_fields(&present, &["body", "torque"], "torque")?;
                     let body = self.required(&f.body, "body", &what, at.clone())?;
                     let body = self.body_of(scope, body, &owner)?;
-                    ForceElement::Torque {
-                        name,
-                        body,
-                        torque: self.finite(
-                            self.required(&f.torque, "torque", &what, at.clone())?,
-                            "torque (N·m)",
-                        )?,
+                    let torque = self.run_expr(
+                        self.required(&f.torque, "torque", &what, at.clone())?,
+                        &run,
+                        "torque (N·m)",
+                    )?;
+                    match torque.tree.constant() {
+                        Some(torque) => ForceElement::Torque { name, body, torque },
+                        None => ForceElement::TorqueLaw { name, body, torque },
                     }
                 }
                 "force" => {
@@ -979,13 +1496,19 @@ impl Builder<'_, '_> {
                             format!("{owner} acts on the ground; expected a moving body"),
                         ));
                     }
-                    ForceElement::PointForce {
-                        name,
-                        at: at_anchor,
-                        force: self.vec2(
-                            self.required(&f.force, "force", &what, at.clone())?,
-                            "force (N)",
-                        )?,
+                    let force = self.required(&f.force, "force", &what, at.clone())?;
+                    let [fx, fy] = self.run_vec2(force, &run, "force (N)")?;
+                    match (fx.tree.constant(), fy.tree.constant()) {
+                        (Some(x), Some(y)) => ForceElement::PointForce {
+                            name,
+                            at: at_anchor,
+                            force: [x, y],
+                        },
+                        _ => ForceElement::ForceLaw {
+                            name,
+                            at: at_anchor,
+                            force: [fx, fy],
+                        },
                     }
                 }
                 other => {
@@ -1005,8 +1528,38 @@ impl Builder<'_, '_> {
         Ok(forces)
     }
 
+    /// A vector whose components may be run-time expressions.
+    fn run_vec2(&self, v: &Vec2, run: &RunScope<'_>, what: &str) -> Res<[Expression; 2]> {
+        let items = v.get_ref();
+        let [x, y] = items.as_slice() else {
+            return Err(self.err(
+                v.span(),
+                format!(
+                    "expected 2 components [x, y] for the {what}, found {} component{}",
+                    items.len(),
+                    if items.len() == 1 { "" } else { "s" }
+                ),
+            ));
+        };
+        let one = |c: &Spanned<toml::Value>, axis: &str| -> Res<Expression> {
+            match c.get_ref() {
+                toml::Value::String(text) => {
+                    let num: Num = Spanned::new(c.span(), Scalar::Expr(text.clone()));
+                    self.run_expr(&num, run, what)
+                }
+                _ => {
+                    let x = self.component(c, axis, what)?;
+                    let num: Num = Spanned::new(c.span(), Scalar::Number(x));
+                    self.run_expr(&num, run, what)
+                }
+            }
+        };
+        Ok([one(x, "x")?, one(y, "y")?])
+    }
+
     fn body_of(&self, scope: &Scope<'_>, body: &Name, owner: &str) -> Res<BodyId> {
-        let n = body.get_ref().trim();
+        let n = &self.text(body)?;
+        let n = n.trim();
         scope
             .bodies
             .iter()

@@ -12,8 +12,43 @@ use toml::Spanned;
 
 /// A spanned string (name of a body, point, joint …).
 pub type Name = Spanned<String>;
-/// A spanned number.
-pub type Num = Spanned<f64>;
+/// A spanned number, or an expression string such as `"L2/2"` (see `expr`).
+pub type Num = Spanned<Scalar>;
+
+/// A number as written: a TOML integer or float, or an expression string.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Scalar {
+    /// A TOML integer or float.
+    Number(f64),
+    /// An expression to evaluate with the parameters.
+    Expr(String),
+}
+
+impl<'de> Deserialize<'de> for Scalar {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = Scalar;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a number or an expression string such as \"L2/2\"")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<Scalar, E> {
+                Ok(Scalar::Number(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<Scalar, E> {
+                // The float nearest the integer, as serde reads an integer into f64.
+                Ok(Scalar::Number(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<Scalar, E> {
+                Ok(Scalar::Number(v as f64))
+            }
+            fn visit_str<E>(self, v: &str) -> Result<Scalar, E> {
+                Ok(Scalar::Expr(v.to_string()))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
+}
 /// A spanned planar vector `[x, y]`, read as a list of any length and any element type so that
 /// validation can refuse a wrong number of components (a fixed `[f64; 2]` would silently drop a
 /// third one) and name the element that is not a number.
@@ -43,6 +78,70 @@ pub struct ModelFile {
     /// `[[forces]]`.
     #[serde(default)]
     pub forces: Vec<ForceFile>,
+    /// `[parameters]`: named numbers or expressions, usable in any numeric field.
+    #[serde(default)]
+    pub parameters: BTreeMap<Name, Num>,
+    /// `[[tables]]`: y(x) with linear interpolation, called in expressions as `name(x)`.
+    #[serde(default)]
+    pub tables: Vec<TableFile>,
+    /// `[[repeat]]`: bodies, joints and forces generated over an index range.
+    #[serde(default)]
+    pub repeat: Vec<RepeatFile>,
+    /// `[[outputs]]`: points on bodies reported as extra columns.
+    #[serde(default)]
+    pub outputs: Vec<OutputFile>,
+}
+
+/// `[[tables]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableFile {
+    /// Name, called in expressions as `name(x)`.
+    pub name: Name,
+    /// Strictly increasing abscissae (numbers or expressions).
+    pub x: Vec2,
+    /// Ordinates, as many as `x`.
+    pub y: Vec2,
+}
+
+/// `[[repeat]]`: `index` runs from `from` to `to` (integers, inclusive); in every entry of
+/// `bodies`, `joints` and `forces`, `{expr}` in a name is replaced by the integer value of
+/// `expr`, and the index is a parameter of every expression.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RepeatFile {
+    /// Name of the index, e.g. "i".
+    pub index: Name,
+    /// First value (integer, or an expression of parameters).
+    pub from: Num,
+    /// Last value, inclusive.
+    pub to: Num,
+    /// Ground point templates (`[repeat.ground] points = { "G{i}" = ["i*a", 0] }`).
+    #[serde(default)]
+    pub ground: GroundFile,
+    /// Body templates.
+    #[serde(default)]
+    pub bodies: Vec<BodyFile>,
+    /// Joint templates.
+    #[serde(default)]
+    pub joints: Vec<JointFile>,
+    /// Force templates.
+    #[serde(default)]
+    pub forces: Vec<ForceFile>,
+}
+
+/// `[[outputs]]`: a point on a body whose position, velocity and acceleration become columns.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputFile {
+    /// Column prefix: `name.x name.y name.vx name.vy name.ax name.ay`.
+    pub name: Name,
+    /// The body.
+    pub body: Name,
+    /// A named point of the body.
+    pub point: Option<Name>,
+    /// Or coordinates in the body frame (m).
+    pub local: Option<Vec2>,
 }
 
 /// `[model]`.
@@ -218,7 +317,7 @@ pub struct FrictionFile {
 pub struct DriverFile {
     /// Unique driver name.
     pub name: Name,
-    /// "constant-speed".
+    /// "constant-speed" | "speed-ramp" | "prescribed-angle" | "torque".
     #[serde(rename = "type")]
     pub kind: Name,
     /// The revolute joint it drives.
@@ -229,6 +328,24 @@ pub struct DriverFile {
     pub speed: Option<Num>,
     /// Relative angle φ_b − φ_a of the joint at t = 0 (rad, default 0).
     pub initial_angle: Option<Num>,
+    /// Speed ramp: speed before the ramp (rad/s).
+    pub speed0: Option<Num>,
+    /// Speed ramp: speed after the ramp (rad/s).
+    pub speed1: Option<Num>,
+    /// Speed ramp: speed before the ramp (rpm).
+    pub speed0_rpm: Option<Num>,
+    /// Speed ramp: speed after the ramp (rpm).
+    pub speed1_rpm: Option<Num>,
+    /// Speed ramp: time the ramp starts (s, default 0).
+    pub start: Option<Num>,
+    /// Speed ramp: how long the ramp lasts (s).
+    pub duration: Option<Num>,
+    /// Speed ramp: "smooth" (default) or "linear".
+    pub shape: Option<Name>,
+    /// Prescribed angle: θ(t) as an expression of `t` (rad).
+    pub angle: Option<Num>,
+    /// Torque driver: motor torque (N·m) as an expression of `t`, `theta`, `omega`.
+    pub torque: Option<Num>,
 }
 
 /// `[[forces]]`: one flat struct; [`super::build`] checks the fields of each type.
@@ -258,9 +375,9 @@ pub struct ForceFile {
     pub body: Option<Name>,
     /// Force: point of application on the body.
     pub point: Option<Name>,
-    /// Constant torque (N·m, counter-clockwise positive).
+    /// Torque (N·m, counter-clockwise positive): a number or an expression of time and state.
     pub torque: Option<Num>,
-    /// Constant force in the global frame (N).
+    /// Force in the global frame (N): numbers or expressions of time and state.
     pub force: Option<Vec2>,
 }
 

@@ -28,6 +28,19 @@ impl<'a> Locator<'a> {
         }
     }
 
+    /// Bytes from `offset` to the first character inside the string that starts there: the
+    /// length of its opening quote (`"`, `'`, `"""` or `'''`), 0 if no string starts there.
+    pub fn string_body_offset(&self, offset: usize) -> usize {
+        let rest = self.text.get(offset..).unwrap_or("");
+        if rest.starts_with("\"\"\"") || rest.starts_with("'''") {
+            3
+        } else if rest.starts_with('"') || rest.starts_with('\'') {
+            1
+        } else {
+            0
+        }
+    }
+
     /// An error about the file as a whole.
     pub fn whole(&self, message: impl Into<String>) -> ModelError {
         ModelError::WholeFile {

@@ -6,15 +6,18 @@
 mod bounds;
 mod build;
 mod error;
+mod expr;
 mod file;
 mod laws;
 mod locate;
 mod names;
 mod overrides;
+mod params;
 mod suggest;
 mod types;
 
 pub use error::ModelError;
+pub use expr::{BinOp, Expr, Func, Jet, Table, Variable};
 pub use types::*;
 
 use sha2::{Digest, Sha256};

@@ -1,5 +1,6 @@
 //! The validated model, in SI units, addressed by typed ids.
 
+use super::expr::Expr;
 use serde::Serialize;
 
 /// Index of a body in [`Model::bodies`].
@@ -169,17 +170,92 @@ pub struct Joint {
     pub kind: JointKind,
 }
 
-/// A constant-speed driver on a revolute joint: φ_b − φ_a = θ0 + ω t.
+/// An expression from the model file, resolved: its text (for messages and provenance) and
+/// its tree (see [`Expr`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct Expression {
+    /// As written.
+    pub text: String,
+    /// Resolved tree.
+    #[serde(skip)]
+    pub tree: Expr,
+}
+
+/// How a driver moves its joint: the relative angle θ(t) = φ_b − φ_a.
+#[derive(Debug, Clone, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "type")]
+pub enum DriverMotion {
+    /// θ = θ0 + ω t.
+    ConstantSpeed,
+    /// The speed goes from `speed0` to `speed1` between `start` and `start + duration`:
+    /// θ̇ = ω0 + (ω1 − ω0) s(τ), τ = (t − start)/duration clamped to [0, 1], with s(τ) = τ
+    /// (linear) or 3τ² − 2τ³ (smooth: the angular acceleration is continuous).
+    SpeedRamp {
+        /// ω0 (rad/s).
+        speed0: f64,
+        /// ω1 (rad/s).
+        speed1: f64,
+        /// Start of the ramp (s).
+        start: f64,
+        /// Duration (s), > 0.
+        duration: f64,
+        /// Smooth (3τ² − 2τ³) rather than linear.
+        smooth: bool,
+    },
+    /// θ = θ(t), an expression of t alone.
+    PrescribedAngle(Expression),
+}
+
+/// A driver on a revolute joint: the relative angle φ_b − φ_a follows θ(t) (one constraint row).
 #[derive(Debug, Clone, Serialize)]
 pub struct Driver {
     /// Name as in the model file.
     pub name: String,
     /// The driven revolute joint.
     pub joint: JointId,
-    /// Angular speed ω (rad/s).
+    /// Angular speed ω (rad/s): the constant speed, or the final speed of a ramp; 0 for a
+    /// prescribed angle (which has no nominal speed, so runs need `t_end`, not turns).
     pub speed: f64,
     /// Relative angle θ0 at t = 0 (rad).
     pub initial_angle: f64,
+    /// How θ(t) goes.
+    pub motion: DriverMotion,
+}
+
+impl Driver {
+    /// One line for `linkdyn check`: the motion and its data.
+    pub fn describe(&self) -> String {
+        let rpm = |w: f64| w * 30.0 / std::f64::consts::PI;
+        match &self.motion {
+            DriverMotion::ConstantSpeed => format!(
+                "constant speed {} rad/s ({:.4} rpm)",
+                self.speed,
+                rpm(self.speed)
+            ),
+            DriverMotion::SpeedRamp {
+                speed0,
+                speed1,
+                start,
+                duration,
+                smooth,
+            } => format!(
+                "{} speed ramp {speed0} → {speed1} rad/s ({:.4} → {:.4} rpm) from t = {start} s over {duration} s",
+                if *smooth { "smooth" } else { "linear" },
+                rpm(*speed0),
+                rpm(*speed1)
+            ),
+            DriverMotion::PrescribedAngle(e) => format!("prescribed angle θ(t) = {}", e.text),
+        }
+    }
+}
+
+/// A point on a body reported as output columns `name.x name.y name.vx name.vy name.ax name.ay`.
+#[derive(Debug, Clone, Serialize)]
+pub struct OutputPoint {
+    /// Column prefix.
+    pub name: String,
+    /// The point (on a moving body).
+    pub at: Anchor,
 }
 
 /// An applied force element.
@@ -218,6 +294,62 @@ pub enum ForceElement {
         /// Force (N).
         force: [f64; 2],
     },
+    /// Torque on a body given by an expression of time and state (N·m, counter-clockwise).
+    TorqueLaw {
+        /// Name.
+        name: String,
+        /// Body.
+        body: BodyId,
+        /// τ(t, state) (N·m).
+        torque: Expression,
+    },
+    /// Force at a body point, global frame, given by expressions of time and state (N).
+    ForceLaw {
+        /// Name.
+        name: String,
+        /// Point of application.
+        at: Anchor,
+        /// F_x, F_y (N).
+        force: [Expression; 2],
+    },
+    /// A motor on a revolute joint (a `torque` driver): +τ on the joint's second body, −τ on
+    /// its first, τ an expression of t, θ = φ_b − φ_a and ω = θ̇ (N·m).
+    Motor {
+        /// Name.
+        name: String,
+        /// The joint.
+        joint: JointId,
+        /// Frame of the first body (receives −τ).
+        a: Frame,
+        /// Frame of the second body (receives +τ).
+        b: Frame,
+        /// τ(t, θ, ω) (N·m).
+        torque: Expression,
+    },
+}
+
+impl ForceElement {
+    /// Name as in the model file.
+    pub fn name(&self) -> &str {
+        match self {
+            ForceElement::SpringDamper { name, .. }
+            | ForceElement::Torque { name, .. }
+            | ForceElement::PointForce { name, .. }
+            | ForceElement::TorqueLaw { name, .. }
+            | ForceElement::ForceLaw { name, .. }
+            | ForceElement::Motor { name, .. } => name,
+        }
+    }
+
+    /// Type as written in the model file.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            ForceElement::SpringDamper { .. } => "spring-damper",
+            ForceElement::Torque { .. } | ForceElement::TorqueLaw { .. } => "torque",
+            ForceElement::PointForce { .. } | ForceElement::ForceLaw { .. } => "force",
+            ForceElement::Motor { .. } => "torque driver",
+        }
+    }
 }
 
 /// Baumgarte stabilisation: the constraint error obeys Φ̈ + 2αΦ̇ + β²Φ = 0.
@@ -277,8 +409,12 @@ pub struct Model {
     pub joints: Vec<Joint>,
     /// Drivers.
     pub drivers: Vec<Driver>,
-    /// Applied force elements (gravity is in `settings`).
+    /// Applied force elements (gravity is in `settings`), torque drivers included.
     pub forces: Vec<ForceElement>,
+    /// Points on bodies reported as output columns.
+    pub outputs: Vec<OutputPoint>,
+    /// Parameters as evaluated (name, value), sorted by name.
+    pub parameters: Vec<(String, f64)>,
     /// Provenance.
     pub source: ModelSource,
     /// Things the user should know that are not errors, one sentence each, e.g. the fields a
