@@ -772,7 +772,11 @@ impl Builder<'_, '_> {
                 }
                 Ok(FrictionSpec::None)
             }
-            None | Some(("ambrosio", _)) => {
+            None | Some(("ambrosio" | "ambrosio-as-printed", _)) => {
+                let as_printed = t
+                    .law
+                    .as_ref()
+                    .is_some_and(|l| l.get_ref().trim() == "ambrosio-as-printed");
                 let coefficient = t
                     .coefficient
                     .as_ref()
@@ -796,17 +800,25 @@ impl Builder<'_, '_> {
                         format!("expected v1 > v0, found v0 = {v0}, v1 = {v1}"),
                     ));
                 }
-                Ok(FrictionSpec::Ambrosio {
-                    coefficient,
-                    v0,
-                    v1,
+                Ok(if as_printed {
+                    FrictionSpec::AmbrosioAsPrinted {
+                        coefficient,
+                        v0,
+                        v1,
+                    }
+                } else {
+                    FrictionSpec::Ambrosio {
+                        coefficient,
+                        v0,
+                        v1,
+                    }
                 })
             }
             Some((other, span)) => Err(self.err(
                 span,
                 format!(
-                    "unknown friction law \"{other}\"; expected \"ambrosio\" or \"none\"{}",
-                    did_you_mean(other, ["ambrosio", "none"])
+                    "unknown friction law \"{other}\"; expected \"ambrosio\", \"none\" or \"ambrosio-as-printed\"{}",
+                    did_you_mean(other, ["ambrosio", "none", "ambrosio-as-printed"])
                 ),
             )),
         }

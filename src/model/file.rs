@@ -202,7 +202,7 @@ pub struct ContactFile {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FrictionFile {
-    /// "ambrosio" (default) | "none".
+    /// "ambrosio" (default) | "none" | "ambrosio-as-printed" (the paper's eq. 11 as printed).
     pub law: Option<Name>,
     /// Friction coefficient c_f (default 0.1).
     pub coefficient: Option<Num>,
