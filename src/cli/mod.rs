@@ -63,13 +63,15 @@ enum Command {
     Stress(stress::StressArgs),
 }
 
-/// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
-/// by a law switch, for example) as `note: …` lines on stderr.
+/// Loads a model file with its `--set` overrides, makes the clearance joints named by `--ideal`
+/// ideal (`ideal`), and prints the model's notes (fields dropped by a law switch, for example) as
+/// `note: …` lines on stderr.
 pub fn load_model(
     path: &Path,
     set: &[String],
+    ideal: &[String],
 ) -> Result<linkdyn::model::Model, linkdyn::model::ModelError> {
-    let model = linkdyn::model::load(path, set)?;
+    let model = linkdyn::model::idealise(linkdyn::model::load(path, set)?, ideal)?;
     for note in &model.notes {
         eprintln!("note: {note}");
     }

@@ -37,7 +37,7 @@ impl ModelArgs {
     /// Loads the model with its overrides and builds the simulation, integrating `turns`
     /// driver turns.
     pub fn simulation(&self, turns: f64) -> Result<Simulation, Failure> {
-        let model = super::load_model(&self.model, &self.solve.set)?;
+        let model = super::load_model(&self.model, &self.solve.set, &self.solve.ideal)?;
         let options = SimulationOptions {
             end: EndTime::DriverTurns(turns),
             ..self.options()?

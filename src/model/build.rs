@@ -413,6 +413,7 @@ impl Builder<'_, '_> {
                 ),
                 ("contact", j.contact.as_ref().map(|v| v.span())),
                 ("friction", j.friction.as_ref().map(|v| v.span())),
+                ("ideal", j.ideal.as_ref().map(|v| v.span())),
             ];
             let at = j.name.span();
             let kind_name = j.kind.get_ref().trim();
@@ -467,6 +468,7 @@ impl Builder<'_, '_> {
                         "initial_eccentricity",
                         "contact",
                         "friction",
+                        "ideal",
                     ];
                     self.only_fields(&present, &allowed, "clearance joint")?;
                     let what = format!("clearance joint \"{name}\"");
@@ -510,7 +512,13 @@ impl Builder<'_, '_> {
                     ),
                 ));
             }
-            joints.push(Joint { name, a, b, kind });
+            let joint = Joint { name, a, b, kind };
+            // `ideal = true`: the clearance data above are validated, then set aside.
+            if j.ideal.as_ref().is_some_and(|v| *v.get_ref()) {
+                joints.push(super::ideal::ideal_joint(joint));
+            } else {
+                joints.push(joint);
+            }
         }
         Ok(joints)
     }

@@ -174,6 +174,8 @@ pub struct JointFile {
     pub contact: Option<Spanned<ContactFile>>,
     /// Clearance: `[joints.friction]`.
     pub friction: Option<Spanned<FrictionFile>>,
+    /// Clearance: `true` runs the joint as an ideal revolute joint (see `model::ideal`).
+    pub ideal: Option<Spanned<bool>>,
 }
 
 /// Material of one side of a clearance joint.

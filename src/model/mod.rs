@@ -7,6 +7,7 @@ mod bounds;
 mod build;
 mod error;
 mod file;
+pub mod ideal;
 mod laws;
 mod locate;
 mod names;
@@ -15,6 +16,7 @@ mod suggest;
 mod types;
 
 pub use error::ModelError;
+pub use ideal::idealise;
 pub use types::*;
 
 use sha2::{Digest, Sha256};
