@@ -217,8 +217,10 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
             ("observe", args.observe.clone()),
         ],
     );
-    let data_head = format!("{head}index,{},turn,{}\n", args.param, args.observe);
-    let verdict_head = format!("{head}index,{},verdict,k\n", args.param);
+    // Header row first, then the provenance (as every result CSV); the whole head is a prefix
+    // that `--resume` matches and skips.
+    let data_head = format!("index,{},turn,{}\n{head}", args.param, args.observe);
+    let verdict_head = format!("index,{},verdict,k\n{head}", args.param);
     let out = &args.out;
     let verdicts = verdicts_path(out);
     check_output_file(out, Some(&args.model.model))?;
