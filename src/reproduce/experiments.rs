@@ -650,6 +650,11 @@ fn sweep(
     figs: &mut Vec<FigureFile>,
 ) -> Option<SweepFindings> {
     let (n, turns, transient) = plan.bifurcation;
+    let n = if variant == Variant::Intended {
+        n
+    } else {
+        plan.bifurcation_others
+    };
     let grid = ParameterGrid::new(SWEEP.0, SWEEP.1, n.saturating_sub(1)).ok()?;
     let overrides = vec![
         format!("joints.B.friction.law={}", variant.law()),

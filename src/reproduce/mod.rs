@@ -131,8 +131,11 @@ pub struct Plan {
     pub signal_3500: (f64, f64),
     /// Lyapunov turns and transient at 250 rpm.
     pub lyapunov_250: (f64, f64),
-    /// Bifurcation points, turns and transient.
+    /// Bifurcation points (intended friction), turns and transient.
     pub bifurcation: (usize, usize, usize),
+    /// Bifurcation points of the other variants: the as-printed law needs the fixed-step
+    /// fallback at 3500 rpm, some 50 times the cost of a point with the intended law.
+    pub bifurcation_others: usize,
     /// Turns of the twin runs (1e-12 m apart).
     pub twin_turns: f64,
 }
@@ -148,6 +151,7 @@ impl Plan {
             signal_3500: (30.0, 10.0),
             lyapunov_250: (12.0, 2.0),
             bifurcation: (6, 30, 20),
+            bifurcation_others: 6,
             twin_turns: 4.0,
         }
     }
@@ -162,6 +166,7 @@ impl Plan {
             signal_3500: (150.0, 100.0),
             lyapunov_250: (60.0, 10.0),
             bifurcation: (200, 150, 100),
+            bifurcation_others: 40,
             twin_turns: 4.0,
         }
     }

@@ -105,7 +105,7 @@ pub fn markdown(f: &Findings) -> String {
     let p = f.plan;
     let _ = writeln!(
         out,
-        "Turns: histories {}; sections {} (transient {}) at 250 rpm and {} ({}) at 3500 rpm; spectra and phase portraits {} ({}) and {} ({}); Lyapunov {} ({}); bifurcation {} clearances, {} turns ({} transient).\n",
+        "Turns: histories {}; sections {} (transient {}) at 250 rpm and {} ({}) at 3500 rpm; spectra and phase portraits {} ({}) and {} ({}); Lyapunov {} ({}); bifurcation {} clearances (intended friction; {} for the other variants), {} turns ({} transient).\n",
         p.history_turns,
         p.section_250.0,
         p.section_250.1,
@@ -118,6 +118,7 @@ pub fn markdown(f: &Findings) -> String {
         p.lyapunov_250.0,
         p.lyapunov_250.1,
         p.bifurcation.0,
+        p.bifurcation_others,
         p.bifurcation.1,
         p.bifurcation.2
     );
@@ -274,6 +275,45 @@ fn numbers(out: &mut String, f: &Findings, figure: &str) {
         }
         _ => {}
     }
+    if figure == "fig6" {
+        speed(out, f);
+    }
+}
+
+/// Measured with `linkdyn bifurcation` on this repository's 2-core machine (docs/reproduce.md):
+/// CPU seconds for 20 of the 200 points of Fig. 6a (3500 rpm, 150 turns, 100 transient, reduced
+/// formulation, intended friction) at rtol 1e-6 (DOP853) and 1e-8 (DOP853, the default).
+pub const FIG6A_CPU_S_PER_20: [(&str, f64); 2] =
+    [("DOP853, rtol 1e-6", 14.2), ("DOP853, rtol 1e-8", 17.3)];
+
+fn speed(out: &mut String, f: &Findings) {
+    let _ = writeln!(
+        out,
+        "**Speed of Fig. 6a** (target: 200 clearances, 150 turns each, in ≤ 60 s on 2 cores)."
+    );
+    if let Some(s) = find(f, Variant::Intended).and_then(|v| v.sweep_3500.as_ref()) {
+        let _ = writeln!(
+            out,
+            "This run's intended-friction sweep: {} points × {} turns in {:.1} s on {} threads (DOP853, rtol 1e-8; {} the paper's 200 × 150).",
+            s.points,
+            f.plan.bifurcation.1,
+            s.wall_s,
+            s.threads,
+            if s.points == 200 && f.plan.bifurcation.1 == 150 {
+                "exactly"
+            } else {
+                "fewer than"
+            }
+        );
+    }
+    for (solver, cpu) in FIG6A_CPU_S_PER_20 {
+        let _ = writeln!(
+            out,
+            "`linkdyn bifurcation`, {solver}: {cpu} CPU s for 20 of the 200 points, so about {:.0} s for all 200 on 2 uncontended cores (measured on a machine shared with other jobs: CPU time, extrapolated ×10 and halved for 2 cores).",
+            cpu * 10.0 / 2.0
+        );
+    }
+    let _ = writeln!(out);
 }
 
 fn peaks(s: &super::experiments::SpectrumFindings) -> String {
