@@ -45,6 +45,7 @@ pub mod mechanics;
 pub mod model;
 pub mod output;
 pub mod plot;
+pub mod reproduce;
 pub mod simulation;
 pub mod solve;
 

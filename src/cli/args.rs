@@ -1,4 +1,5 @@
-//! Arguments shared by `run` and `compare`, turned into [`SimulationOptions`].
+//! Arguments shared by `run`, `compare` and the analyses, turned into [`SimulationOptions`]
+//! (and, for `--set` and `--ideal`, into the model: [`super::load_model`]).
 
 use super::Failure;
 use clap::Args;
@@ -38,6 +39,10 @@ pub struct SolveArgs {
     /// `--set drivers.motor.speed_rpm=3500`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Run this clearance joint as an ideal revolute joint (repeatable): the ideal reference
+    /// from the same model file. Recorded as `joints.NAME.ideal=true` in the provenance.
+    #[arg(long, value_name = "JOINT")]
+    pub ideal: Vec<String>,
 }
 
 /// The `--method` help: every integrator with its one-line description.

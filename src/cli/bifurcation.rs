@@ -165,7 +165,11 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
     }
     let grid = ParameterGrid::new(args.from, args.to, args.steps)?;
     // The base model and settings, checked once before any point (bad input exits 2 now).
-    let base_model = super::load_model(&args.model.model, &args.model.solve.set)?;
+    let base_model = super::load_model(
+        &args.model.model,
+        &args.model.solve.set,
+        &args.model.solve.ideal,
+    )?;
     let options = SimulationOptions {
         end: EndTime::DriverTurns(turns as f64),
         ..args.model.options()?
@@ -174,7 +178,8 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         .map_err(|e| super::in_model(&args.model.model, e))?;
     let sweep = Sweep {
         model_path: &args.model.model,
-        overrides: &args.model.solve.set,
+        // `--set` then `--ideal` as overrides, so every point reloads the same model.
+        overrides: &base_model.source.overrides,
         parameter: &args.param,
         grid,
         options,
@@ -212,8 +217,10 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
             ("observe", args.observe.clone()),
         ],
     );
-    let data_head = format!("{head}index,{},turn,{}\n", args.param, args.observe);
-    let verdict_head = format!("{head}index,{},verdict,k\n", args.param);
+    // Header row first, then the provenance (as every result CSV); the whole head is a prefix
+    // that `--resume` matches and skips.
+    let data_head = format!("index,{},turn,{}\n{head}", args.param, args.observe);
+    let verdict_head = format!("index,{},verdict,k\n{head}", args.param);
     let out = &args.out;
     let verdicts = verdicts_path(out);
     check_output_file(out, Some(&args.model.model))?;

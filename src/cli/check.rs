@@ -18,7 +18,7 @@ pub struct CheckArgs {
 
 /// Runs `check`.
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
-    let model = super::load_model(&args.model, &args.set)?;
+    let model = super::load_model(&args.model, &args.set, &[])?;
     let dae =
         Dae::new(&model, &DaeOptions::default()).map_err(|e| in_model(&args.model, e.into()))?;
     let a = dae.assembly();

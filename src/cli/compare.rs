@@ -34,7 +34,7 @@ struct CompareReport<'a> {
 
 /// Runs `compare`.
 pub fn run(args: &CompareArgs) -> Result<(), Failure> {
-    let model = super::load_model(&args.model, &args.solve.set)?;
+    let model = super::load_model(&args.model, &args.solve.set, &args.solve.ideal)?;
     let options = args.solve.options()?;
     // Every setting is checked before either formulation runs (again inside
     // `compare_formulations`, which costs an assembly).

@@ -3,7 +3,7 @@
 //! renormalisation), and λ ± its batch-means uncertainty printed.
 
 use super::Failure;
-use super::poincare::{ModelArgs, provenance_lines, row, write_whole};
+use super::poincare::{ModelArgs, csv_head, row, write_whole};
 use super::spectrum::window_turns;
 use clap::Args;
 use linkdyn::output::format_number;
@@ -41,7 +41,8 @@ pub fn run(args: &LyapunovArgs) -> Result<(), Failure> {
         renormalise_every: args.renormalise_every_revs,
     };
     let e = analyses::lyapunov(&sim, &spec)?;
-    let mut text = provenance_lines(
+    let mut text = csv_head(
+        "t,lambda",
         sim.provenance(),
         &[
             ("transient_revs", format_number(args.transient)),
@@ -52,7 +53,6 @@ pub fn run(args: &LyapunovArgs) -> Result<(), Failure> {
             ),
         ],
     );
-    text.push_str("t,lambda\n");
     for (t, l) in &e.history {
         text.push_str(&row([*t, *l]));
     }

@@ -30,13 +30,21 @@ struct Parsed {
 fn parse(path: &Path) -> Result<Parsed, Failure> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| bad("files", format!("cannot read {}: {e}", path.display())))?;
+    // The head: the header row and the `#` lines around it (header first as written now;
+    // `#` lines first in files of earlier versions).
     let mut head = String::new();
-    let mut lines = text.split_inclusive('\n');
-    for line in lines.by_ref() {
-        head.push_str(line);
-        if !line.starts_with('#') {
+    let mut lines = text.split_inclusive('\n').peekable();
+    let mut header_seen = false;
+    while let Some(line) = lines.peek() {
+        if line.starts_with('#') {
+            head.push_str(line);
+        } else if !header_seen {
+            head.push_str(line);
+            header_seen = true;
+        } else {
             break;
         }
+        lines.next();
     }
     let rows: Vec<String> = lines.map(str::to_string).collect();
     if let Some(last) = rows.last()

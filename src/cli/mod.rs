@@ -16,6 +16,7 @@ mod phase;
 mod plot;
 mod poincare;
 mod progress;
+mod reproduce;
 mod run;
 mod spectrum;
 mod stress;
@@ -59,17 +60,22 @@ enum Command {
     /// Draw a figure (PNG or SVG) from result CSV files: series, orbit, poincare, bifurcation,
     /// spectrum, phase, lyapunov.
     Plot(plot::PlotArgs),
+    /// The analogues of Figs. 3–7 of Farahan et al. (2016) per friction variant, with a report
+    /// judging the paper's claims (DIR/report.md).
+    Reproduce(reproduce::ReproduceArgs),
     /// Stiff and extreme cases × formulations × methods with a verdict each (ok, slow, failed, refused).
     Stress(stress::StressArgs),
 }
 
-/// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
-/// by a law switch, for example) as `note: …` lines on stderr.
+/// Loads a model file with its `--set` overrides, makes the clearance joints named by `--ideal`
+/// ideal (`ideal`), and prints the model's notes (fields dropped by a law switch, for example) as
+/// `note: …` lines on stderr.
 pub fn load_model(
     path: &Path,
     set: &[String],
+    ideal: &[String],
 ) -> Result<linkdyn::model::Model, linkdyn::model::ModelError> {
-    let model = linkdyn::model::load(path, set)?;
+    let model = linkdyn::model::idealise(linkdyn::model::load(path, set)?, ideal)?;
     for note in &model.notes {
         eprintln!("note: {note}");
     }
@@ -206,6 +212,7 @@ pub fn main() -> ExitCode {
         Command::Phase(args) => phase::run(&args),
         Command::Lyapunov(args) => lyapunov::run(&args),
         Command::Plot(args) => plot::run(&args),
+        Command::Reproduce(args) => reproduce::run(&args),
         Command::Stress(args) => stress::run(&args),
     };
     match result {

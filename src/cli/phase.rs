@@ -3,7 +3,7 @@
 //! `B.phi` → `B.omega`, else second-order differences).
 
 use super::Failure;
-use super::poincare::{ModelArgs, provenance_lines, row, write_whole};
+use super::poincare::{ModelArgs, csv_head, row, write_whole};
 use super::spectrum::window_turns;
 use clap::Args;
 use linkdyn::analysis::RateSource;
@@ -36,7 +36,8 @@ pub fn run(args: &PhaseArgs) -> Result<(), Failure> {
         RateSource::Column => analyses::rate_column(&args.observe).unwrap_or_default(),
         RateSource::CentralDifference => "central differences".to_string(),
     };
-    let mut text = provenance_lines(
+    let mut text = csv_head(
+        "t,value,rate",
         sim.provenance(),
         &[
             ("observe", args.observe.clone()),
@@ -44,7 +45,6 @@ pub fn run(args: &PhaseArgs) -> Result<(), Failure> {
             ("rate", source.clone()),
         ],
     );
-    text.push_str("t,value,rate\n");
     for ((t, v), r) in t.iter().zip(&p.value).zip(&p.rate) {
         text.push_str(&row([*t, *v, *r]));
     }

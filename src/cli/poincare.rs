@@ -1,7 +1,7 @@
 //! `linkdyn poincare MODEL --revs N --transient M [--phase RAD] [--observe COLS] --out F.csv`:
 //! the state or chosen output columns once per driver turn, CSV `turn,t,<cols>`, and the
 //! period verdict. Also the pieces the other analysis commands share: the model and solve
-//! arguments, and the atomic CSV with `#` provenance lines.
+//! arguments, and the atomic CSV with its header row, then `#` provenance lines.
 
 use super::args::SolveArgs;
 use super::{Failure, in_model};
@@ -37,7 +37,7 @@ impl ModelArgs {
     /// Loads the model with its overrides and builds the simulation, integrating `turns`
     /// driver turns.
     pub fn simulation(&self, turns: f64) -> Result<Simulation, Failure> {
-        let model = super::load_model(&self.model, &self.solve.set)?;
+        let model = super::load_model(&self.model, &self.solve.set, &self.solve.ideal)?;
         let options = SimulationOptions {
             end: EndTime::DriverTurns(turns),
             ..self.options()?
@@ -73,6 +73,13 @@ impl ModelArgs {
 /// A bad-input failure naming the option.
 pub fn bad(option: &'static str, reason: impl Into<String>) -> Failure {
     Failure::from(Error::settings(option, reason))
+}
+
+/// The head of an analysis CSV: the header row `header` first (as in the run CSV, see
+/// `output::csv_header`), then the `#` provenance lines with `extra` settings added, so that
+/// `np.genfromtxt(f, delimiter=",", names=True, comments="#")` reads the file in one call.
+pub fn csv_head(header: &str, provenance: Provenance, extra: &[(&str, String)]) -> String {
+    format!("{header}\n{}", provenance_lines(provenance, extra))
 }
 
 /// `#` provenance lines of `provenance` with `extra` settings added.
@@ -154,7 +161,13 @@ pub fn run(args: &PoincareArgs) -> Result<(), Failure> {
     };
     let s = analyses::poincare(&sim, &spec)?;
     let omega = analyses::driver_speed(sim.model(), "revs")?;
-    let mut text = provenance_lines(
+    let mut header = String::from("turn,t");
+    for name in &s.section.names {
+        header.push(',');
+        header.push_str(name);
+    }
+    let mut text = csv_head(
+        &header,
         sim.provenance(),
         &[
             ("transient_revs", args.transient.to_string()),
@@ -165,12 +178,6 @@ pub fn run(args: &PoincareArgs) -> Result<(), Failure> {
             ),
         ],
     );
-    text.push_str("turn,t");
-    for name in &s.section.names {
-        text.push(',');
-        text.push_str(name);
-    }
-    text.push('\n');
     for ((k, t), p) in s.turns.iter().zip(&s.section.times).zip(&s.section.points) {
         text.push_str(&k.to_string());
         text.push(',');

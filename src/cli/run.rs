@@ -50,7 +50,7 @@ fn parse_formulation(s: &str) -> Result<FormulationKind, String> {
 /// Runs `run`.
 pub fn run(args: &RunArgs) -> Result<(), Failure> {
     interrupt::install();
-    let model = super::load_model(&args.model, &args.solve.set)?;
+    let model = super::load_model(&args.model, &args.solve.set, &args.solve.ideal)?;
     let options = args
         .solve
         .options()?

@@ -3,7 +3,7 @@
 //! dominant peaks printed with their multiple of the driving frequency.
 
 use super::Failure;
-use super::poincare::{ModelArgs, provenance_lines, row, write_whole};
+use super::poincare::{ModelArgs, csv_head, row, write_whole};
 use clap::Args;
 use linkdyn::output::format_number;
 use linkdyn::simulation::analyses;
@@ -30,7 +30,8 @@ pub fn run(args: &SpectrumArgs) -> Result<(), Failure> {
     let turns = window_turns(&args.model, args.transient)?;
     let sim = args.model.simulation(turns)?;
     let (s, f_drive) = analyses::spectrum(&sim, &args.observe, args.transient)?;
-    let mut text = provenance_lines(
+    let mut text = csv_head(
+        "frequency_hz,amplitude",
         sim.provenance(),
         &[
             ("observe", args.observe.clone()),
@@ -39,7 +40,6 @@ pub fn run(args: &SpectrumArgs) -> Result<(), Failure> {
             ("driving_frequency_hz", format_number(f_drive)),
         ],
     );
-    text.push_str("frequency_hz,amplitude\n");
     for (f, a) in s.frequencies.iter().zip(&s.amplitudes) {
         text.push_str(&row([*f, *a]));
     }

@@ -777,6 +777,7 @@ impl Builder<'_, '_> {
                 ),
                 ("contact", j.contact.as_ref().map(|v| v.span())),
                 ("friction", j.friction.as_ref().map(|v| v.span())),
+                ("ideal", j.ideal.as_ref().map(|v| v.span())),
             ];
             let at = j.name.span();
             let kind_name = j.kind.get_ref().trim();
@@ -831,6 +832,7 @@ impl Builder<'_, '_> {
                         "initial_eccentricity",
                         "contact",
                         "friction",
+                        "ideal",
                     ];
                     self.only_fields(&present, &allowed, "clearance joint")?;
                     let what = format!("clearance joint \"{name}\"");
@@ -874,7 +876,13 @@ impl Builder<'_, '_> {
                     ),
                 ));
             }
-            joints.push(Joint { name, a, b, kind });
+            let joint = Joint { name, a, b, kind };
+            // `ideal = true`: the clearance data above are validated, then set aside.
+            if j.ideal.as_ref().is_some_and(|v| *v.get_ref()) {
+                joints.push(super::ideal::ideal_joint(joint));
+            } else {
+                joints.push(joint);
+            }
         }
         Ok(joints)
     }
@@ -1136,7 +1144,11 @@ impl Builder<'_, '_> {
                 }
                 Ok(FrictionSpec::None)
             }
-            None | Some(("ambrosio", _)) => {
+            None | Some(("ambrosio" | "ambrosio-as-printed", _)) => {
+                let as_printed = t
+                    .law
+                    .as_ref()
+                    .is_some_and(|l| l.get_ref().trim() == "ambrosio-as-printed");
                 let coefficient = t
                     .coefficient
                     .as_ref()
@@ -1160,17 +1172,25 @@ impl Builder<'_, '_> {
                         format!("expected v1 > v0, found v0 = {v0}, v1 = {v1}"),
                     ));
                 }
-                Ok(FrictionSpec::Ambrosio {
-                    coefficient,
-                    v0,
-                    v1,
+                Ok(if as_printed {
+                    FrictionSpec::AmbrosioAsPrinted {
+                        coefficient,
+                        v0,
+                        v1,
+                    }
+                } else {
+                    FrictionSpec::Ambrosio {
+                        coefficient,
+                        v0,
+                        v1,
+                    }
                 })
             }
             Some((other, span)) => Err(self.err(
                 span,
                 format!(
-                    "unknown friction law \"{other}\"; expected \"ambrosio\" or \"none\"{}",
-                    did_you_mean(other, ["ambrosio", "none"])
+                    "unknown friction law \"{other}\"; expected \"ambrosio\", \"none\" or \"ambrosio-as-printed\"{}",
+                    did_you_mean(other, ["ambrosio", "none", "ambrosio-as-printed"])
                 ),
             )),
         }

@@ -35,6 +35,16 @@ pub enum ModelError {
         /// What is wrong.
         message: String,
     },
+    /// An `--ideal NAME` that names no clearance joint of the model.
+    #[error("{file}: --ideal {joint}: {message}")]
+    Ideal {
+        /// File path.
+        file: String,
+        /// The joint name as given.
+        joint: String,
+        /// What is wrong, with the model's clearance joints.
+        message: String,
+    },
     /// A `--set KEY=VALUE` override that cannot be applied.
     #[error("--set {assignment}: {message}")]
     Override {

@@ -273,6 +273,8 @@ pub struct JointFile {
     pub contact: Option<Spanned<ContactFile>>,
     /// Clearance: `[joints.friction]`.
     pub friction: Option<Spanned<FrictionFile>>,
+    /// Clearance: `true` runs the joint as an ideal revolute joint (see `model::ideal`).
+    pub ideal: Option<Spanned<bool>>,
 }
 
 /// Material of one side of a clearance joint.
@@ -301,7 +303,7 @@ pub struct ContactFile {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FrictionFile {
-    /// "ambrosio" (default) | "none".
+    /// "ambrosio" (default) | "none" | "ambrosio-as-printed" (the paper's eq. 11 as printed).
     pub law: Option<Name>,
     /// Friction coefficient c_f (default 0.1).
     pub coefficient: Option<Num>,

@@ -15,6 +15,7 @@ pub const CONTACT: &[(&str, &[&str])] = &[
 /// Friction laws and the fields of `[joints.friction]` each takes.
 pub const FRICTION: &[(&str, &[&str])] = &[
     ("ambrosio", &["law", "coefficient", "v0", "v1"]),
+    ("ambrosio-as-printed", &["law", "coefficient", "v0", "v1"]),
     ("none", &["law"]),
 ];
 

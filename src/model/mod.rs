@@ -8,6 +8,7 @@ mod build;
 mod error;
 mod expr;
 mod file;
+pub mod ideal;
 mod laws;
 mod locate;
 mod names;
@@ -18,6 +19,7 @@ mod types;
 
 pub use error::ModelError;
 pub use expr::{BinOp, Expr, Func, Jet, Table, Variable};
+pub use ideal::idealise;
 pub use types::*;
 
 use sha2::{Digest, Sha256};

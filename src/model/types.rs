@@ -92,6 +92,16 @@ pub enum FrictionSpec {
         /// Tangential speed above which friction is fully on (m/s).
         v1: f64,
     },
+    /// The paper's eq. 11 exactly as printed (c_d = 1 below v0, 0 above v1): a reproduction
+    /// aid, not physics (see `contact::friction::ambrosio_as_printed`).
+    AmbrosioAsPrinted {
+        /// Friction coefficient c_f.
+        coefficient: f64,
+        /// Tangential speed below which friction is fully on (m/s).
+        v0: f64,
+        /// Tangential speed above which friction is off (m/s).
+        v1: f64,
+    },
 }
 
 /// Young's modulus and Poisson ratio of one side of a contact.

@@ -6,7 +6,8 @@
 //! contact point relative to the bearing's, friction opposes the slip: F_T v_t ≤ 0.
 //!
 //! Laws (from [`FrictionSpec`]): `None` gives 0 without any computation; `Ambrosio` is the modified
-//! Coulomb law of [`ambrosio`].
+//! Coulomb law of [`ambrosio`]; `AmbrosioAsPrinted` is the paper's eq. 11 as printed (cases
+//! swapped), a reproduction aid and not physics ([`ambrosio_as_printed`]).
 //!
 //! # References
 //! 1. J. A. C. Ambrósio, Impact of rigid and flexible multibody systems: deformation description
@@ -17,8 +18,10 @@
 //!    and Acoustics* (2016), eqs. 10–11, <https://tava.isav.ir/article_19881.html>.
 
 pub mod ambrosio;
+pub mod ambrosio_as_printed;
 
 pub use ambrosio::{AmbrosioFriction, dynamic_correction};
+pub use ambrosio_as_printed::{AmbrosioAsPrinted, printed_correction};
 
 use crate::model::FrictionSpec;
 
@@ -33,6 +36,16 @@ pub fn friction_force(spec: &FrictionSpec, normal_force: f64, tangential_velocit
             v0,
             v1,
         } => AmbrosioFriction {
+            coefficient,
+            v0,
+            v1,
+        }
+        .force(normal_force, tangential_velocity),
+        FrictionSpec::AmbrosioAsPrinted {
+            coefficient,
+            v0,
+            v1,
+        } => AmbrosioAsPrinted {
             coefficient,
             v0,
             v1,
