@@ -108,20 +108,20 @@ struct Equations<'a> {
     /// √(N/m): IDA's norm divides by N, linkdyn's by the m controlled components.
     scale: f64,
     lambda_ref: f64,
-    /// The last failure of the equations, for the error message.
-    error: Option<FormulationError>,
+    /// The last failure of the equations and the time of the failed evaluation.
+    error: Option<(f64, FormulationError)>,
     /// Right-hand-side calls made by Jacobians (the ODE fallback's finite differences).
     jacobian_rhs_calls: u64,
 }
 
 impl Equations<'_> {
-    fn failed(&mut self, e: FormulationError) -> Callback {
+    fn failed(&mut self, t: f64, e: FormulationError) -> Callback {
         let answer = if e.is_recoverable() {
             Callback::Recoverable
         } else {
             Callback::Fatal
         };
-        self.error = Some(e);
+        self.error = Some((t, e));
         answer
     }
 }
@@ -130,7 +130,7 @@ impl Problem for Equations<'_> {
     fn residual(&mut self, t: f64, yy: &[f64], yp: &[f64], res: &mut [f64]) -> Callback {
         match self.form.residual(t, yy, yp, res) {
             Ok(()) => Callback::Ok,
-            Err(e) => self.failed(e),
+            Err(e) => self.failed(t, e),
         }
     }
 
@@ -148,7 +148,7 @@ impl Problem for Equations<'_> {
                 self.jacobian_rhs_calls += calls as u64;
                 Callback::Ok
             }
-            Err(e) => self.failed(e),
+            Err(e) => self.failed(t, e),
         }
     }
 
@@ -475,7 +475,7 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
                     f0: None,
                 });
                 match (failure, formulation_error) {
-                    (Some((t, _)), Some(source)) => Err(SolveError::Formulation { t, source }),
+                    (Some(_), Some((t, source))) => Err(SolveError::Formulation { t, source }),
                     (Some((t, e)), None) => Err(method_failure(t, e)),
                     (None, _) => Err(SolveError::MethodFailed {
                         t: trial.t,
