@@ -165,7 +165,7 @@ impl FromStr for Method {
 pub const IDA_DESCRIPTION: &str = "SUNDIALS IDA: variable-order BDF (1–5) on the residual form with the Lagrange multipliers as unknowns, analytic Jacobian; stiff contact phases (needs a build with --features ida)";
 
 /// Why `--method ida` is refused in a build without the cargo feature `ida`.
-pub const IDA_NOT_BUILT: &str = "\"ida\" (SUNDIALS IDA) is not in this build: rebuild with `cargo build --release --features ida` (needs cmake and libclang; see the README, \"SUNDIALS IDA (optional)\")";
+pub const IDA_NOT_BUILT: &str = "\"ida\" (SUNDIALS IDA) is not in this build: rebuild with \"cargo build --release --features ida\" (needs cmake and libclang; see the README, \"SUNDIALS IDA (optional)\")";
 
 /// The implicit methods available, as `"a" or "b"` (empty if none), for advice in messages.
 pub(crate) fn implicit_methods() -> String {

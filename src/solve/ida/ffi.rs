@@ -151,7 +151,9 @@ pub(super) struct Ida {
     mat: sun::SUNMatrix,
     ls: sun::SUNLinearSolver,
     n: usize,
-    /// IDA's last error message (boxed: the error handler holds its address).
+    /// IDA's last error message. Boxed: the error handler holds the String's own address,
+    /// which must not move when the `Ida` does.
+    #[allow(clippy::box_collection)]
     message: Box<String>,
     initialised: bool,
 }
