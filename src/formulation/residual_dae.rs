@@ -36,12 +36,20 @@
 //! identity and mass blocks, Φ_q and Φ_qᵀ, the Baumgarte terms 2α Φ_q and β² Φ_q, and the
 //! curvature terms of revolute joints, ∂(Φ_qᵀ λ)/∂φ, ∂(Φ_q v̇)/∂φ, ∂γ/∂(φ, φ̇) and ∂Φ̇/∂φ, with
 //! u = A(φ) s the rotated arm of a joint point and d u/dφ = perp(u). Driver rows are linear (no
-//! curvature). **By forward differences**, locally: the curvature of prismatic rows (over the
-//! coordinates of their two bodies) and the generalised forces Q and energy rates over the
-//! columns of the bodies they act on (the two bodies of every clearance joint and of every
-//! force element; all bodies with energy bookkeeping) — contact forces are piecewise (δ > 0),
-//! with a friction ramp, and their analytic derivatives would be long for little gain: each
-//! column costs one evaluation of the forces, not of the residual.
+//! curvature). **By finite differences**, locally: the curvature of prismatic rows (forward,
+//! over the coordinates of their two bodies) and the generalised forces Q (central, over the
+//! columns of the bodies they act on: the two bodies of every clearance joint and of every
+//! force element) — contact forces are piecewise (δ > 0), with a friction ramp, and their
+//! analytic derivatives would be long for little gain: each column costs two evaluations of the
+//! forces, not of the residual. **Left out on purpose**: the couplings of the energy rows
+//! F_e to (q, v, λ). Their rows keep only c on the diagonal, so the iteration matrix is block
+//! diagonal in e and its LU on the mechanical unknowns is the same, operation for operation,
+//! with and without energy bookkeeping. The integrals then lag one Newton iteration behind
+//! q, v and λ — converged to the Newton tolerance of the mechanical unknowns, which is all a
+//! bookkeeping quantity needs. (IDA's norms still divide by N, which the bookkeeping states
+//! change, so a run with `--energy` differs from one without at round-off in the norms, which
+//! the step control and the impacts amplify to the tolerance level: 6e-8 rad on farahan2016 at
+//! rtol 1e-8, against an error of 1.2e-7 rad. The explicit methods give identical steps.)
 //!
 //! Where sparsity would enter: each constraint row touches at most two bodies and each force
 //! element two, so J has 3 × 3 blocks in the pattern of the linkage's graph (plus the λ rows).
@@ -82,7 +90,7 @@ pub struct DaeResidual {
     mass: Vec<f64>,
     baumgarte: Baumgarte,
     energy: bool,
-    /// Bodies whose coordinates Q (and the energy rates) depend on: the finite-difference columns.
+    /// Bodies whose coordinates Q depends on: the finite-difference columns.
     force_bodies: Vec<usize>,
     work: RefCell<Work>,
 }
@@ -154,7 +162,7 @@ impl DaeResidual {
         let nc = 3 * nb;
         let energy = Formulation::n_states(dae) == 2 * nc + dae.n_clearance_joints() + 3;
         let contacts = dae.contacts().clone();
-        let force_bodies = force_bodies(&model, &contacts, energy);
+        let force_bodies = force_bodies(&model, &contacts);
         let m = constraints.n_rows();
         DaeResidual {
             mass: model
@@ -249,12 +257,9 @@ impl DaeResidual {
     }
 }
 
-/// Bodies that Q (and with `energy` the energy rates) depends on, ascending.
-fn force_bodies(model: &Model, contacts: &ContactSites, energy: bool) -> Vec<usize> {
+/// Bodies that Q depends on, ascending.
+fn force_bodies(model: &Model, contacts: &ContactSites) -> Vec<usize> {
     let nb = model.bodies.len();
-    if energy {
-        return (0..nb).collect();
-    }
     let mut touched = vec![false; nb];
     let mut mark = |a: &Anchor| {
         if let Frame::Body(id) = a.frame {
@@ -421,7 +426,6 @@ impl ResidualForm for DaeResidual {
         let nn = self.n_unknowns();
         let nc = self.n_coordinates();
         let n = self.n_states();
-        let ke = self.energy_index();
         let Baumgarte { alpha, beta } = self.baumgarte;
         out.fill(0.0);
         // Entry (row i, column j) of the column-major N × N matrix.
@@ -457,19 +461,6 @@ impl ResidualForm for DaeResidual {
                     // ∂F_λ/∂v̇ = Φ_q, ∂(2αΦ̇)/∂v = 2α Φ_q, ∂(β²Φ)/∂q = β² Φ_q.
                     out[at(li, nc + col)] += (c + 2.0 * alpha) * jac[comp];
                     out[at(li, col)] += beta * beta * jac[comp];
-                }
-            }
-            if self.energy
-                && let RowSource::Driver(_) = self.constraints.sources()[r]
-            {
-                // F_e0 = ė0 + Σ λ_i (Φ_q v)_i over the driver rows (Φ_q constant).
-                out[at(ke, li)] += row.dot_velocity(v);
-                for (body, jac) in [(row.body_a, row.jac_a), (row.body_b, row.jac_b)] {
-                    if let Some(b) = body {
-                        for comp in 0..3 {
-                            out[at(ke, nc + 3 * b + comp)] += lambda[i] * jac[comp];
-                        }
-                    }
                 }
             }
             match self.kinds[i] {
@@ -588,8 +579,7 @@ impl DaeResidual {
         }
     }
 
-    /// Columns q, v, s of −∂Q/∂(·) on the F_v rows and of −∂(rates)/∂(·) on the F_e rows, by
-    /// central differences ([`force_step`]) over [`DaeResidual::force_bodies`] (and every stored
+    /// Columns q, v, s of −∂Q/∂(·) on the F_v rows, by central differences ([`force_step`]) over [`DaeResidual::force_bodies`] (and every stored
     /// impact velocity). Returns 0: these are force evaluations, not right-hand-side calls.
     fn difference_forces(
         &self,
@@ -613,7 +603,6 @@ impl DaeResidual {
         for col in columns {
             let x = yy[col];
             let d = force_step(x);
-            let mut rates_pm = [[0.0; 2]; 2];
             for (side, sign) in [(0, 1.0), (1, -1.0)] {
                 w.q_pert.copy_from_slice(q);
                 w.v_pert.copy_from_slice(v);
@@ -631,15 +620,10 @@ impl DaeResidual {
                 } else {
                     &mut w.forces
                 };
-                rates_pm[side] =
-                    self.forces_into(t, &w.q_pert, &w.v_pert, &w.s_pert, &w.sin_cos_pert, target)?;
+                self.forces_into(t, &w.q_pert, &w.v_pert, &w.s_pert, &w.sin_cos_pert, target)?;
             }
             for k in 0..nc {
                 out[col * nn + nc + k] -= (w.forces_pert[k] - w.forces[k]) / (2.0 * d);
-            }
-            if self.energy {
-                out[col * nn + ke + 1] -= (rates_pm[0][0] - rates_pm[1][0]) / (2.0 * d);
-                out[col * nn + ke + 2] -= (rates_pm[0][1] - rates_pm[1][1]) / (2.0 * d);
             }
         }
         Ok(0)

@@ -35,8 +35,15 @@
 //! * Error control: IDA's weighted RMS norm over all N unknowns gets weights
 //!   √(N/m)/(rtol·|y_i| + atol) on the m error-controlled states and 0 on bookkeeping ones
 //!   (stored impact velocities, energy integrals), which is the norm of
-//!   [`ErrorWeights`]; λ is excluded from the error test (`IDASetSuppressAlg`) and weighted
-//!   1/(rtol·(|λ_i| + λ_ref)) in the Newton test, λ_ref the largest |λ| at the last restart.
+//!   [`ErrorWeights`]. λ has weight 0: it is out of the error test (`IDASetSuppressAlg`) and
+//!   out of the Newton test, where the velocities judge it: an error Δλ moves v̇ by
+//!   M⁻¹Φ_qᵀΔλ and the Newton correction of v by that over c, so converged velocities mean a
+//!   λ converged on its natural scale c·M·(tolerance of v). (A weight 1/(rtol·|λ|) made
+//!   Newton fail on round-off of λ near configurations where the KKT matrix is ill
+//!   conditioned.) λ feeds nothing but the energy rates: output columns recompute it from
+//!   (q, v). The norms do not depend on the bookkeeping states except through the rounding of
+//!   IDA's division by N: `--energy` changes the trajectory at the tolerance level only, not
+//!   to round-off as with the other methods.
 //! * A residual that fails recoverably (a trial state deep in a contact,
 //!   [`FormulationError::is_recoverable`]) is returned to IDA as recoverable (> 0): IDA retries
 //!   with a smaller step. If IDA gives up, the error goes to the driver as it is, which retries
@@ -107,7 +114,6 @@ struct Equations<'a> {
     n: usize,
     /// √(N/m): IDA's norm divides by N, linkdyn's by the m controlled components.
     scale: f64,
-    lambda_ref: f64,
     /// The last failure of the equations and the time of the failed evaluation.
     error: Option<(f64, FormulationError)>,
     /// Right-hand-side calls made by Jacobians (the ODE fallback's finite differences).
@@ -156,7 +162,8 @@ impl Problem for Equations<'_> {
         let (rtol, atol) = (self.weights.rtol, self.weights.atol);
         for (i, (w, y)) in ewt.iter_mut().zip(yy).enumerate() {
             *w = if i >= self.n {
-                1.0 / (rtol * (y.abs() + self.lambda_ref))
+                // λ: out of the error test and the Newton test (see the module documentation).
+                0.0
             } else if self.weights.mask.get(i).copied().unwrap_or(0.0) > 0.0 {
                 self.scale / (rtol * y.abs() + atol)
             } else {
@@ -194,7 +201,6 @@ pub struct IdaMethod {
     pieces: Vec<Piece>,
     n_pieces: usize,
     counts: IdaCounts,
-    lambda_ref: f64,
 }
 
 impl IdaMethod {
@@ -215,7 +221,6 @@ impl IdaMethod {
             pieces: Vec::new(),
             n_pieces: 0,
             counts: IdaCounts::default(),
-            lambda_ref: 1.0,
         }
     }
 
@@ -297,9 +302,6 @@ impl IdaMethod {
         };
         form.consistent_values(p.t, &p.y, &f0, &mut self.yy, &mut self.yp)
             .map_err(|source| SolveError::Formulation { t: p.t, source })?;
-        self.lambda_ref = self.yy[self.n..]
-            .iter()
-            .fold(1.0_f64, |m, l| m.max(l.abs()));
         self.add_counts(stats);
         let h_max = self.h_max;
         let Some(ida) = self.ida.as_mut() else {
@@ -424,7 +426,6 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
             weights: &self.weights,
             n: self.n,
             scale: (self.yy.len() as f64 / m as f64).sqrt(),
-            lambda_ref: self.lambda_ref,
             error: None,
             jacobian_rhs_calls: 0,
         };
