@@ -110,6 +110,8 @@ fn expected_rhs_evals(method: Method, s: &SolverStats) -> u64 {
         Method::Dopri5 => 6 * (s.steps + s.rejected),
         Method::Dop853 => 12 * s.steps + 11 * s.rejected,
         Method::Radau5 => panic!("explicit pairs only (Radau5's counts: tests/radau5_*.rs)"),
+        #[cfg(feature = "ida")]
+        Method::Ida => panic!("explicit pairs only (IDA: tests/ida.rs)"),
     };
     2 + steps + s.dense_evals + s.restarts
 }

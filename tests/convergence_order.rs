@@ -23,6 +23,9 @@ fn step_counts(method: Method) -> &'static [usize] {
         Method::Dopri5 => &[48, 64, 96, 128, 256],
         Method::Dop853 => &[16, 20, 24, 28, 32],
         Method::Radau5 => &[16, 24, 32, 48, 64],
+        // Not in Method::ALL: IDA has no fixed steps.
+        #[cfg(feature = "ida")]
+        Method::Ida => &[],
     }
 }
 
@@ -141,6 +144,8 @@ fn dense_output_has_its_own_order() -> Result<(), SolveError> {
             Method::Dopri5 => &[0.2, 0.1, 0.05, 0.025],
             Method::Dop853 => &[0.8, 0.4, 0.2, 0.1],
             Method::Radau5 => &[0.2, 0.1, 0.05, 0.025],
+            #[cfg(feature = "ida")]
+            Method::Ida => &[],
         };
         let errs = hs
             .iter()
@@ -164,6 +169,8 @@ fn dense_samples_between_steps_converge_with_the_global_order() -> Result<(), So
         let counts: &[usize] = match method {
             Method::Dopri5 => step_counts(method),
             Method::Dop853 | Method::Radau5 => &[16, 24, 32, 48, 64],
+            #[cfg(feature = "ida")]
+            Method::Ida => &[],
         };
         let mut hs = Vec::new();
         let mut errs = Vec::new();

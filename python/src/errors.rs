@@ -50,7 +50,8 @@ fn solve_time(e: &SolveError) -> Option<f64> {
         | SolveError::Sink { t, .. }
         | SolveError::EventNotConverged { t, .. }
         | SolveError::InvalidMaxStep { t, .. }
-        | SolveError::OutsideStep { t, .. } => Some(*t),
+        | SolveError::OutsideStep { t, .. }
+        | SolveError::MethodFailed { t, .. } => Some(*t),
         _ => None,
     }
 }

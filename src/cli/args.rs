@@ -51,6 +51,10 @@ fn method_help() -> String {
     for m in Method::ALL {
         text.push_str(&format!("\n  {m}: {}", m.description()));
     }
+    text.push_str(&format!(
+        "\n  ida: {}",
+        linkdyn::solve::options::IDA_DESCRIPTION
+    ));
     text
 }
 

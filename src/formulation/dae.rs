@@ -780,6 +780,11 @@ impl Formulation for Dae {
         })
     }
 
+    /// With λ as algebraic unknowns ([`super::residual_dae`]).
+    fn residual_form(&self) -> Option<Box<dyn super::residual::ResidualForm>> {
+        Some(Box::new(super::residual_dae::DaeResidual::new(self)))
+    }
+
     /// The grazing guard of the free clearance joints (∞ without clearance joints).
     fn max_step(&self, t: f64, y: &[f64]) -> f64 {
         if self.contacts.is_empty() {

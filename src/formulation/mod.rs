@@ -10,6 +10,8 @@ pub mod contacts;
 pub mod dae;
 pub mod jacobian;
 pub mod reduced_lagrangian;
+pub mod residual;
+pub mod residual_dae;
 
 pub use dae::{Dae, DaeOptions};
 pub use reduced_lagrangian::ReducedLagrangian;
@@ -108,6 +110,14 @@ pub trait Formulation {
     /// to make sure that no event can start and end inside one step. Default: unlimited.
     fn max_step(&self, _t: f64, _y: &[f64]) -> f64 {
         f64::INFINITY
+    }
+
+    /// The same equations in residual form F(t, Y, Ẏ) = 0 with algebraic unknowns (the DAE's
+    /// Lagrange multipliers), for DAE solvers (SUNDIALS IDA, `--method ida`); see
+    /// [`residual`]. Default: `None`, and such solvers integrate Ẏ − f(t, Y)
+    /// ([`residual::OdeResidual`]).
+    fn residual_form(&self) -> Option<Box<dyn residual::ResidualForm>> {
+        None
     }
 
     /// Called by the driver at the end of every accepted step, with the new state (t, y) and

@@ -110,6 +110,20 @@ pub enum SolveError {
         source: FormulationError,
     },
 
+    /// An integrator of an external library (SUNDIALS IDA, `--method ida`) gave up, with the
+    /// library's return flag, what that flag means, and the library's own message.
+    #[error("{method} failed at t = {t:.9} s: {flag}: {reason}")]
+    MethodFailed {
+        /// Time the method had reached (s).
+        t: f64,
+        /// Method name ("ida").
+        method: &'static str,
+        /// The library's return flag by name ("IDA_CONV_FAIL").
+        flag: String,
+        /// What the flag means and the library's message.
+        reason: String,
+    },
+
     /// The output sink failed (e.g. a write error); the run was aborted.
     #[error("output failed at t = {t:.9} s: {reason}")]
     Sink {

@@ -23,5 +23,7 @@ pub(crate) fn new_integrator<F: Formulation + ?Sized>(
             opts.h_max,
             &opts.radau5,
         )),
+        #[cfg(feature = "ida")]
+        Method::Ida => Box::new(super::ida::IdaMethod::new(n, weights, opts.h_max)),
     }
 }

@@ -32,6 +32,7 @@
 //! | `rk` | kernels shared by the pairs: counted RHS calls, stage sums, error scale |
 //! | `dopri5`, `dop853` | tableau, one step, error norm, dense output of each pair |
 //! | [`radau5`] | Radau IIA order 5: the method core, its [`Integrator`] adapter, a stand-alone driver |
+//! | `ida` | SUNDIALS IDA on the residual form (cargo feature `ida` only): the one `unsafe` wrapper and its [`Integrator`] adapter |
 //! | `control` | step-size controller and initial step (Hairer's `hinit`) |
 //! | [`stepper`] | [`Stepper`], the driver: one accepted step per call, [`Stop`] says why it stopped |
 //! | `progress` | the run limits `max_wall` and the no-progress rule |
@@ -91,6 +92,8 @@ mod dopri5;
 pub mod error;
 pub mod events;
 mod explicit;
+#[cfg(feature = "ida")]
+pub mod ida;
 pub mod integrate;
 pub mod integrator;
 mod methods;

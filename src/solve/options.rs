@@ -32,6 +32,11 @@ pub enum Method {
     /// the formulation's analytic) Jacobian, cubic dense output. For stiff phases (sustained
     /// contact).
     Radau5,
+    /// SUNDIALS IDA (variable-order BDF, orders 1–5) on the residual form with the Lagrange
+    /// multipliers as unknowns ([`crate::solve::ida`]); only in a build with the cargo feature
+    /// `ida`. Not in [`Method::ALL`] (which lists the methods of every build).
+    #[cfg(feature = "ida")]
+    Ida,
 }
 
 impl Method {
@@ -45,6 +50,8 @@ impl Method {
             Method::Dopri5 => "dopri5",
             Method::Dop853 => "dop853",
             Method::Radau5 => "radau5",
+            #[cfg(feature = "ida")]
+            Method::Ida => "ida",
         }
     }
 
@@ -54,6 +61,8 @@ impl Method {
         match self {
             Method::Dopri5 | Method::Radau5 => 5,
             Method::Dop853 => 8,
+            #[cfg(feature = "ida")]
+            Method::Ida => 5,
         }
     }
 
@@ -64,6 +73,8 @@ impl Method {
             Method::Dopri5 => 4,
             Method::Dop853 => 7,
             Method::Radau5 => 3,
+            #[cfg(feature = "ida")]
+            Method::Ida => 5,
         }
     }
 
@@ -74,6 +85,8 @@ impl Method {
         match self {
             Method::Dopri5 => 0.04,
             Method::Dop853 | Method::Radau5 => 0.0,
+            #[cfg(feature = "ida")]
+            Method::Ida => 0.0,
         }
     }
 
@@ -90,6 +103,8 @@ impl Method {
             Method::Radau5 => {
                 "Radau IIA order 5 (RADAU5), implicit, L-stable, Newton with a finite-difference Jacobian, cubic dense output; stiff contact phases"
             }
+            #[cfg(feature = "ida")]
+            Method::Ida => IDA_DESCRIPTION,
         }
     }
 
@@ -100,6 +115,8 @@ impl Method {
         match self {
             Method::Dopri5 | Method::Dop853 => false,
             Method::Radau5 => true,
+            #[cfg(feature = "ida")]
+            Method::Ida => true,
         }
     }
 
@@ -123,8 +140,15 @@ impl fmt::Display for Method {
 impl FromStr for Method {
     type Err = SolveError;
 
-    /// Parses a method name (`"dopri5"`, `"dop853"`; ASCII case ignored).
+    /// Parses a method name (`"dopri5"`, `"dop853"`; ASCII case ignored). `"ida"` needs a
+    /// build with the cargo feature `ida`; without it the error says how to rebuild.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s.trim().eq_ignore_ascii_case("ida") {
+            #[cfg(feature = "ida")]
+            return Ok(Method::Ida);
+            #[cfg(not(feature = "ida"))]
+            return Err(SolveError::invalid("method", IDA_NOT_BUILT.to_string()));
+        }
         Method::ALL
             .into_iter()
             .find(|m| m.name().eq_ignore_ascii_case(s.trim()))
@@ -136,6 +160,12 @@ impl FromStr for Method {
             })
     }
 }
+
+/// One line on SUNDIALS IDA, for `linkdyn run --help` (with or without the feature).
+pub const IDA_DESCRIPTION: &str = "SUNDIALS IDA: variable-order BDF (1–5) on the residual form with the Lagrange multipliers as unknowns, analytic Jacobian; stiff contact phases (needs a build with --features ida)";
+
+/// Why `--method ida` is refused in a build without the cargo feature `ida`.
+pub const IDA_NOT_BUILT: &str = "\"ida\" (SUNDIALS IDA) is not in this build: rebuild with \"cargo build --release --features ida\" (needs cmake and libclang; see the README, \"SUNDIALS IDA (optional)\")";
 
 /// The implicit methods available, as `"a" or "b"` (empty if none), for advice in messages.
 pub(crate) fn implicit_methods() -> String {

@@ -1,0 +1,653 @@
+//! The absolute-coordinate DAE in residual form F(t, Y, Ẏ) = 0, with the Lagrange multipliers
+//! as algebraic unknowns: the equations SUNDIALS IDA integrates (`solve::ida`).
+//!
+//! Unknowns Y = (q, v, s, e, λ): coordinates q and velocities v (3 per body), the stored impact
+//! velocity s of every clearance joint, the three energy integrals e (only with
+//! [`DaeOptions::energy`](super::DaeOptions::energy)), then λ of the active constraint rows
+//! (redundant rows found at assembly are left out, as in [`Dae`]). Residual
+//!
+//! ```text
+//!     F_q = q̇ − v                                   (m/s, rad/s)
+//!     F_v = M v̇ + Φ_qᵀ λ − Q(t, q, v, s)             (N, N·m)
+//!     F_s = ṡ                                         (impact velocities are constant between events)
+//!     F_e = ė − (P_driver(v, λ), P_external, D)       (W)
+//!     F_λ = Φ_q v̇ − (γ − 2α Φ̇ − β² Φ)               (m/s², rad/s²)
+//! ```
+//!
+//! Q holds gravity, the force elements and the contact forces of the clearance joints (which
+//! enter as applied forces, exactly as in [`Dae`]); P_driver = −Σ_drivers λ_i (Φ_q v)_i.
+//!
+//! # Which index form, and why
+//! **Index 1 at acceleration level with Baumgarte's terms** (ref. 1), the last row above. Its
+//! solution is the very trajectory of [`Dae`] (same equations, same α, β, so the two methods can
+//! be compared at the tolerance level and IDA finds the same impacts), the consistent initial
+//! values are what the assembly and one evaluation of [`Dae`] already give, and the iteration
+//! matrix [[c M, Φ_qᵀ], [c Φ_q, 0]] is regular for any step size (index 1: BDF converges in the
+//! usual way, λ is excluded from the error test without loss). The stabilised index-2 form of
+//! Gear, Gupta and Leimkuhler (GGL, ref. 2) would hold Φ = 0 and Φ̇ = 0 to the Newton tolerance
+//! instead of letting Baumgarte pull the drift back, but needs a second set of multipliers
+//! (N grows by m), its algebraic variables must be excluded from the error test, and its
+//! trajectory differs from [`Dae`]'s by the Baumgarte drift — so every comparison with the
+//! explicit methods would carry that difference. On the clearance models the drift stays ten
+//! times below its bound (`tests/constraint_violation_bound.rs`), so GGL buys nothing here.
+//!
+//! # Jacobian
+//! J = ∂F/∂Y + c ∂F/∂Ẏ is written densely ([`ResidualForm::jacobian`]). Analytic: the
+//! identity and mass blocks, Φ_q and Φ_qᵀ, the Baumgarte terms 2α Φ_q and β² Φ_q, and the
+//! curvature terms of revolute joints, ∂(Φ_qᵀ λ)/∂φ, ∂(Φ_q v̇)/∂φ, ∂γ/∂(φ, φ̇) and ∂Φ̇/∂φ, with
+//! u = A(φ) s the rotated arm of a joint point and d u/dφ = perp(u). Driver rows are linear (no
+//! curvature). **By finite differences**, locally: the curvature of prismatic rows (forward,
+//! over the coordinates of their two bodies) and the generalised forces Q (central, over the
+//! columns of the bodies they act on: the two bodies of every clearance joint and of every
+//! force element) — contact forces are piecewise (δ > 0), with a friction ramp, and their
+//! analytic derivatives would be long for little gain: each column costs two evaluations of the
+//! forces, not of the residual. **Left out on purpose**: the couplings of the energy rows
+//! F_e to (q, v, λ). Their rows keep only c on the diagonal, so the iteration matrix is block
+//! diagonal in e and its LU on the mechanical unknowns is the same, operation for operation,
+//! with and without energy bookkeeping. The integrals then lag one Newton iteration behind
+//! q, v and λ — converged to the Newton tolerance of the mechanical unknowns, which is all a
+//! bookkeeping quantity needs. (IDA's norms still divide by N, which the bookkeeping states
+//! change, so a run with `--energy` differs from one without at round-off in the norms, which
+//! the step control and the impacts amplify to the tolerance level: 6e-8 rad on farahan2016 at
+//! rtol 1e-8, against an error of 1.2e-7 rad. The explicit methods give identical steps.)
+//!
+//! Where sparsity would enter: each constraint row touches at most two bodies and each force
+//! element two, so J has 3 × 3 blocks in the pattern of the linkage's graph (plus the λ rows).
+//! A four-bar's N ≈ 30 is best served by the dense LU; a chain of hundreds of bodies would
+//! hand the same entries to a sparse (KLU) or banded linear solver.
+//!
+//! # References
+//! 1. J. Baumgarte, Stabilization of constraints and integrals of motion in dynamical systems,
+//!    *Computer Methods in Applied Mechanics and Engineering* 1 (1972) 1–16.
+//! 2. C. W. Gear, B. Leimkuhler, G. K. Gupta, Automatic integration of Euler–Lagrange equations
+//!    with constraints, *Journal of Computational and Applied Mathematics* 12–13 (1985) 77–90.
+//! 3. K. E. Brenan, S. L. Campbell, L. R. Petzold, *Numerical Solution of Initial-Value Problems
+//!    in Differential-Algebraic Equations*, SIAM, 1996, Ch. 5 (index and BDF).
+
+use super::cholesky;
+use super::contacts::ContactSites;
+use super::dae::Dae;
+use super::jacobian::increment;
+use super::residual::ResidualForm;
+use super::{Formulation, FormulationError};
+use crate::mechanics::AppliedForces;
+use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
+use crate::mechanics::planar::{perp, point_state};
+use crate::model::{Anchor, Baumgarte, ForceElement, Frame, Model};
+use std::cell::RefCell;
+
+/// The residual form of a [`Dae`] (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct DaeResidual {
+    model: Model,
+    constraints: ConstraintSet,
+    /// Rows used in the dynamics (all but the redundant ones), ascending.
+    active: Vec<usize>,
+    /// Per active row: how its curvature terms are computed.
+    kinds: Vec<RowKind>,
+    applied: AppliedForces,
+    contacts: ContactSites,
+    mass: Vec<f64>,
+    baumgarte: Baumgarte,
+    energy: bool,
+    /// Bodies whose coordinates Q depends on: the finite-difference columns.
+    force_bodies: Vec<usize>,
+    work: RefCell<Work>,
+}
+
+/// How the curvature terms of one active row are obtained.
+#[derive(Debug, Clone, Copy)]
+enum RowKind {
+    /// Component `axis` of P_b − P_a for a revolute joint: analytic.
+    Revolute {
+        a: Frame,
+        sa: [f64; 2],
+        b: Frame,
+        sb: [f64; 2],
+        axis: usize,
+    },
+    /// A driver: linear in φ, no curvature.
+    Linear,
+    /// A prismatic row: forward differences.
+    Differenced,
+}
+
+/// Scratch reused by every evaluation.
+#[derive(Debug, Clone)]
+struct Work {
+    sin_cos: Vec<(f64, f64)>,
+    forces: Vec<f64>,
+    forces_pert: Vec<f64>,
+    ce: ConstraintEval,
+    ce_pert: ConstraintEval,
+    q_pert: Vec<f64>,
+    v_pert: Vec<f64>,
+    s_pert: Vec<f64>,
+    sin_cos_pert: Vec<(f64, f64)>,
+}
+
+/// Energy rates other than the driver's: (external power, dissipation) (W).
+type Rates = [f64; 2];
+
+impl DaeResidual {
+    /// The residual form of `dae`: same model, constraint rows (without the redundant ones),
+    /// Baumgarte factors, contacts and energy bookkeeping.
+    pub fn new(dae: &Dae) -> Self {
+        let model = dae.model().clone();
+        let constraints = dae.constraints().clone();
+        let redundant = dae.redundant_rows();
+        let active: Vec<usize> = (0..constraints.n_rows())
+            .filter(|k| !redundant.contains(k))
+            .collect();
+        let kinds = active
+            .iter()
+            .map(|&r| match constraints.sources()[r] {
+                RowSource::JointAxis { joint, axis } => {
+                    let j = model.joint(joint);
+                    RowKind::Revolute {
+                        a: j.a.frame,
+                        sa: j.a.local,
+                        b: j.b.frame,
+                        sb: j.b.local,
+                        axis,
+                    }
+                }
+                RowSource::Driver(_) => RowKind::Linear,
+                RowSource::PrismaticAngle(_) | RowSource::PrismaticNormal(_) => {
+                    RowKind::Differenced
+                }
+            })
+            .collect();
+        let nb = model.bodies.len();
+        let nc = 3 * nb;
+        let energy = Formulation::n_states(dae) == 2 * nc + dae.n_clearance_joints() + 3;
+        let contacts = dae.contacts().clone();
+        let force_bodies = force_bodies(&model, &contacts);
+        let m = constraints.n_rows();
+        DaeResidual {
+            mass: model
+                .bodies
+                .iter()
+                .flat_map(|b| [b.mass, b.mass, b.inertia])
+                .collect(),
+            applied: AppliedForces::from_model(&model),
+            baumgarte: dae.baumgarte(),
+            work: RefCell::new(Work {
+                sin_cos: vec![(0.0, 1.0); nb],
+                forces: vec![0.0; nc],
+                forces_pert: vec![0.0; nc],
+                ce: ConstraintEval::with_rows(m),
+                ce_pert: ConstraintEval::with_rows(m),
+                q_pert: vec![0.0; nc],
+                v_pert: vec![0.0; nc],
+                s_pert: vec![0.0; contacts.len()],
+                sin_cos_pert: vec![(0.0, 1.0); nb],
+            }),
+            model,
+            constraints,
+            active,
+            kinds,
+            contacts,
+            energy,
+            force_bodies,
+        }
+    }
+
+    fn n_coordinates(&self) -> usize {
+        3 * self.model.bodies.len()
+    }
+
+    /// Index of the first energy state.
+    fn energy_index(&self) -> usize {
+        2 * self.n_coordinates() + self.contacts.len()
+    }
+
+    /// Q(t, q, v, s) into `out`, and the rates (external power, dissipation) when bookkeeping
+    /// energy. Fails where a penetration is too deep (recoverable) or a force is not finite.
+    #[allow(clippy::too_many_arguments)] // one state, split the way it is stored
+    fn forces_into(
+        &self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        s: &[f64],
+        sin_cos: &[(f64, f64)],
+        out: &mut [f64],
+    ) -> Result<Rates, FormulationError> {
+        self.applied.evaluate_into(q, v, sin_cos, out);
+        let contact_dissipation = if self.contacts.is_empty() {
+            0.0
+        } else {
+            self.contacts
+                .add_forces_into(t, q, v, sin_cos, s, out, self.energy, |j| {
+                    self.model.joint(j).name.clone()
+                })?
+        };
+        if let Some(i) = out.iter().position(|x| !x.is_finite()) {
+            return Err(FormulationError::NonFinite {
+                t,
+                body: self.model.bodies[i / 3].name.clone(),
+                what: "force".into(),
+            });
+        }
+        if !self.energy {
+            return Ok([0.0; 2]);
+        }
+        let (external, damping) = self.applied.power_split(q, v, sin_cos);
+        Ok([external, contact_dissipation + damping])
+    }
+
+    /// Driver power −Σ_drivers λ_i (Φ_q v)_i (W).
+    fn driver_power(&self, ce: &ConstraintEval, v: &[f64], lambda: &[f64]) -> f64 {
+        let mut p = 0.0;
+        for (i, &r) in self.active.iter().enumerate() {
+            if let RowSource::Driver(_) = self.constraints.sources()[r] {
+                p -= lambda[i] * ce.rows[r].dot_velocity(v);
+            }
+        }
+        p
+    }
+
+    /// The constraint part of F_λ for active row i, Φ_q v̇ − γ + 2α Φ̇ + β² Φ, at `ce`.
+    fn constraint_row(&self, ce: &ConstraintEval, r: usize, acc: &[f64]) -> f64 {
+        let Baumgarte { alpha, beta } = self.baumgarte;
+        ce.rows[r].dot_velocity(acc) - ce.gamma[r]
+            + 2.0 * alpha * ce.phi_dot[r]
+            + beta * beta * ce.phi[r]
+    }
+}
+
+/// Bodies that Q depends on, ascending.
+fn force_bodies(model: &Model, contacts: &ContactSites) -> Vec<usize> {
+    let nb = model.bodies.len();
+    let mut touched = vec![false; nb];
+    let mut mark = |a: &Anchor| {
+        if let Frame::Body(id) = a.frame {
+            touched[id.0] = true;
+        }
+    };
+    for site in contacts.sites() {
+        mark(&site.bearing);
+        mark(&site.journal);
+    }
+    for e in &model.forces {
+        match e {
+            ForceElement::SpringDamper { a, b, .. } => {
+                mark(a);
+                mark(b);
+            }
+            // The moment arm of a point force turns with its body.
+            ForceElement::PointForce { at, .. } => mark(at),
+            ForceElement::Torque { .. } => {}
+        }
+    }
+    (0..nb).filter(|&b| touched[b]).collect()
+}
+
+/// (sin φ, cos φ) of every body into `out`.
+fn sin_cos_into(q: &[f64], out: &mut [(f64, f64)]) {
+    for (i, sc) in out.iter_mut().enumerate() {
+        *sc = q[3 * i + 2].sin_cos();
+    }
+}
+
+fn body_of(frame: Frame) -> Option<usize> {
+    match frame {
+        Frame::Ground => None,
+        Frame::Body(id) => Some(id.0),
+    }
+}
+
+impl ResidualForm for DaeResidual {
+    fn n_states(&self) -> usize {
+        self.energy_index() + if self.energy { 3 } else { 0 }
+    }
+
+    fn n_unknowns(&self) -> usize {
+        self.n_states() + self.active.len()
+    }
+
+    /// Everything but λ is differential.
+    fn differential(&self, out: &mut [bool]) {
+        let n = self.n_states();
+        for (i, d) in out.iter_mut().enumerate() {
+            *d = i < n;
+        }
+    }
+
+    /// λ from the first block row, Φ_qᵀ λ = Q − M q̈, in the least-squares sense (it holds
+    /// exactly for the q̈ of [`Dae`]): (Φ_q Φ_qᵀ) λ = Φ_q (Q − M q̈), by Cholesky.
+    fn consistent_values(
+        &self,
+        t: f64,
+        y: &[f64],
+        dy: &[f64],
+        yy: &mut [f64],
+        yp: &mut [f64],
+    ) -> Result<(), FormulationError> {
+        let n = self.n_states();
+        let nc = self.n_coordinates();
+        let ma = self.active.len();
+        yy[..n].copy_from_slice(y);
+        yp[..n].copy_from_slice(dy);
+        yp[n..].fill(0.0);
+        let mut work = self.work.borrow_mut();
+        let Work {
+            sin_cos,
+            forces,
+            ce,
+            ..
+        } = &mut *work;
+        let (q, v, s) = (&y[..nc], &y[nc..2 * nc], &y[2 * nc..self.energy_index()]);
+        sin_cos_into(q, sin_cos);
+        self.forces_into(t, q, v, s, sin_cos, forces)?;
+        self.constraints.evaluate_into(t, q, v, sin_cos, ce);
+        let acc = &dy[nc..2 * nc];
+        for (k, f) in forces.iter_mut().enumerate() {
+            *f -= self.mass[k] * acc[k];
+        }
+        let mut normal = vec![0.0; ma * ma];
+        let lambda = &mut yy[n..];
+        for (i, &ri) in self.active.iter().enumerate() {
+            let row_i = &ce.rows[ri];
+            lambda[i] = row_i.dot_velocity(forces);
+            for (j, &rj) in self.active.iter().enumerate().take(i + 1) {
+                normal[i * ma + j] = row_dot(row_i, &ce.rows[rj]);
+            }
+        }
+        if let Err(pivot) = cholesky::factor(&mut normal, ma) {
+            return Err(FormulationError::SingularConstraints {
+                t,
+                constraint: self.constraints.row_name(&self.model, self.active[pivot]),
+            });
+        }
+        cholesky::solve(&normal, ma, lambda);
+        Ok(())
+    }
+
+    fn residual(
+        &self,
+        t: f64,
+        yy: &[f64],
+        yp: &[f64],
+        res: &mut [f64],
+    ) -> Result<(), FormulationError> {
+        let nc = self.n_coordinates();
+        let n = self.n_states();
+        let ke = self.energy_index();
+        let (q, v, s) = (&yy[..nc], &yy[nc..2 * nc], &yy[2 * nc..ke]);
+        let lambda = &yy[n..];
+        let (dq, acc) = (&yp[..nc], &yp[nc..2 * nc]);
+        let mut work = self.work.borrow_mut();
+        let Work {
+            sin_cos,
+            forces,
+            ce,
+            ..
+        } = &mut *work;
+        sin_cos_into(q, sin_cos);
+        let rates = self.forces_into(t, q, v, s, sin_cos, forces)?;
+        self.constraints.evaluate_into(t, q, v, sin_cos, ce);
+        for k in 0..nc {
+            res[k] = dq[k] - v[k];
+            res[nc + k] = self.mass[k] * acc[k] - forces[k];
+        }
+        for (i, &r) in self.active.iter().enumerate() {
+            let row = &ce.rows[r];
+            let l = lambda[i];
+            for (body, jac) in [(row.body_a, &row.jac_a), (row.body_b, &row.jac_b)] {
+                if let Some(b) = body {
+                    for c in 0..3 {
+                        res[nc + 3 * b + c] += jac[c] * l;
+                    }
+                }
+            }
+            res[n + i] = self.constraint_row(ce, r, acc);
+        }
+        res[2 * nc..ke].copy_from_slice(&yp[2 * nc..ke]);
+        if self.energy {
+            let p_driver = self.driver_power(ce, v, lambda);
+            res[ke] = yp[ke] - p_driver;
+            res[ke + 1] = yp[ke + 1] - rates[0];
+            res[ke + 2] = yp[ke + 2] - rates[1];
+        }
+        Ok(())
+    }
+
+    fn jacobian(
+        &self,
+        t: f64,
+        yy: &[f64],
+        yp: &[f64],
+        _res: &[f64],
+        c: f64,
+        out: &mut [f64],
+    ) -> Result<usize, FormulationError> {
+        let nn = self.n_unknowns();
+        let nc = self.n_coordinates();
+        let n = self.n_states();
+        let Baumgarte { alpha, beta } = self.baumgarte;
+        out.fill(0.0);
+        // Entry (row i, column j) of the column-major N × N matrix.
+        let at = |i: usize, j: usize| j * nn + i;
+        let (q, v) = (&yy[..nc], &yy[nc..2 * nc]);
+        let lambda = &yy[n..];
+        let acc = &yp[nc..2 * nc];
+        let mut work = self.work.borrow_mut();
+        let w = &mut *work;
+        sin_cos_into(q, &mut w.sin_cos);
+        self.constraints
+            .evaluate_into(t, q, v, &w.sin_cos, &mut w.ce);
+
+        // F_q = q̇ − v; F_v = M v̇ + …; F_s = ṡ; F_e = ė − …
+        for k in 0..nc {
+            out[at(k, k)] = c;
+            out[at(k, nc + k)] = -1.0;
+            out[at(nc + k, nc + k)] = c * self.mass[k];
+        }
+        for k in 2 * nc..n {
+            out[at(k, k)] = c;
+        }
+
+        for (i, &r) in self.active.iter().enumerate() {
+            let row = w.ce.rows[r];
+            let li = n + i;
+            for (body, jac) in [(row.body_a, row.jac_a), (row.body_b, row.jac_b)] {
+                let Some(b) = body else { continue };
+                for comp in 0..3 {
+                    let col = 3 * b + comp;
+                    // ∂F_v/∂λ = Φ_qᵀ.
+                    out[at(nc + col, li)] += jac[comp];
+                    // ∂F_λ/∂v̇ = Φ_q, ∂(2αΦ̇)/∂v = 2α Φ_q, ∂(β²Φ)/∂q = β² Φ_q.
+                    out[at(li, nc + col)] += (c + 2.0 * alpha) * jac[comp];
+                    out[at(li, col)] += beta * beta * jac[comp];
+                }
+            }
+            match self.kinds[i] {
+                RowKind::Linear => {}
+                RowKind::Revolute { a, sa, b, sb, axis } => {
+                    // Φ_i = (P_b − P_a)_axis; for a point with arm u on a body with angle φ:
+                    // ∂Φ_i/∂φ = ±perp(u)_axis, ∂²Φ_i/∂φ² = ∓u_axis, γ_i ∋ ±u_axis φ̇².
+                    for (frame, local, sign) in [(a, sa, -1.0), (b, sb, 1.0)] {
+                        let Some(body) = body_of(frame) else { continue };
+                        let p = point_state(frame, local, q, v, &w.sin_cos);
+                        let (u, pu, omega) = (p.arm[axis], perp(p.arm)[axis], p.omega);
+                        let phi_col = 3 * body + 2;
+                        // ∂(λ_i ∂Φ_i/∂φ)/∂φ.
+                        out[at(nc + phi_col, phi_col)] += sign * (-u) * lambda[i];
+                        // ∂/∂φ of Φ_q v̇ − γ + 2α Φ̇.
+                        let d_phi = sign
+                            * (-u * acc[phi_col] - pu * omega * omega - 2.0 * alpha * u * omega);
+                        out[at(li, phi_col)] += d_phi;
+                        // ∂/∂φ̇ of −γ (Φ̇'s part 2α Φ_q is above).
+                        out[at(li, nc + phi_col)] += sign * (-2.0 * u * omega);
+                    }
+                }
+                RowKind::Differenced => self.difference_row(t, i, r, yy, yp, w, out),
+            }
+        }
+
+        // ∂Q/∂(q, v, s) and the energy rates by forward differences over the force bodies.
+        let calls = self.difference_forces(t, yy, w, out)?;
+        Ok(calls)
+    }
+}
+
+/// Φ_q,i · Φ_q,j (both rows' blocks on shared bodies).
+fn row_dot(
+    a: &crate::mechanics::constraints::ConstraintRow,
+    b: &crate::mechanics::constraints::ConstraintRow,
+) -> f64 {
+    let mut sum = 0.0;
+    for (ba, ja) in [(a.body_a, a.jac_a), (a.body_b, a.jac_b)] {
+        for (bb, jb) in [(b.body_a, b.jac_a), (b.body_b, b.jac_b)] {
+            if ba.is_some() && ba == bb {
+                sum += ja[0] * jb[0] + ja[1] * jb[1] + ja[2] * jb[2];
+            }
+        }
+    }
+    sum
+}
+
+impl DaeResidual {
+    /// Curvature terms of active row i (constraint row r) by forward differences over the
+    /// coordinates and velocities of its bodies: ∂(Φ_q v̇ − γ + 2αΦ̇ + β²Φ)/∂(q, v) and
+    /// ∂(λ_i Φ_q,iᵀ)/∂q, minus the analytic first-order parts already written.
+    #[allow(clippy::too_many_arguments)]
+    fn difference_row(
+        &self,
+        t: f64,
+        i: usize,
+        r: usize,
+        yy: &[f64],
+        yp: &[f64],
+        w: &mut Work,
+        out: &mut [f64],
+    ) {
+        let nn = self.n_unknowns();
+        let nc = self.n_coordinates();
+        let n = self.n_states();
+        let li = n + i;
+        let Baumgarte { alpha, beta } = self.baumgarte;
+        let (q, v) = (&yy[..nc], &yy[nc..2 * nc]);
+        let acc = &yp[nc..2 * nc];
+        let l = yy[n + i];
+        let row = w.ce.rows[r];
+        let base = self.constraint_row(&w.ce, r, acc);
+        let bodies: Vec<usize> = [row.body_a, row.body_b].into_iter().flatten().collect();
+        for &b in &bodies {
+            for comp in 0..3 {
+                let col = 3 * b + comp;
+                for velocity in [false, true] {
+                    w.q_pert.copy_from_slice(q);
+                    w.v_pert.copy_from_slice(v);
+                    let x = if velocity { v[col] } else { q[col] };
+                    let d = (x + increment(x)) - x;
+                    if velocity {
+                        w.v_pert[col] = x + d;
+                    } else {
+                        w.q_pert[col] = x + d;
+                    }
+                    sin_cos_into(&w.q_pert, &mut w.sin_cos_pert);
+                    self.constraints.evaluate_into(
+                        t,
+                        &w.q_pert,
+                        &w.v_pert,
+                        &w.sin_cos_pert,
+                        &mut w.ce_pert,
+                    );
+                    let first_order = if velocity {
+                        2.0 * alpha * jac_entry(&row, b, comp)
+                    } else {
+                        beta * beta * jac_entry(&row, b, comp)
+                    };
+                    let value = self.constraint_row(&w.ce_pert, r, acc);
+                    let col_y = if velocity { nc + col } else { col };
+                    out[col_y * nn + li] += (value - base) / d - first_order;
+                    if !velocity {
+                        // ∂(λ Φ_q,iᵀ)/∂q_col onto the F_v rows of the row's bodies.
+                        let pert = w.ce_pert.rows[r];
+                        for &b2 in &bodies {
+                            for c2 in 0..3 {
+                                let dj = jac_entry(&pert, b2, c2) - jac_entry(&row, b2, c2);
+                                out[col * nn + nc + 3 * b2 + c2] += l * dj / d;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Columns q, v, s of −∂Q/∂(·) on the F_v rows, by central differences ([`force_step`]) over [`DaeResidual::force_bodies`] (and every stored
+    /// impact velocity). Returns 0: these are force evaluations, not right-hand-side calls.
+    fn difference_forces(
+        &self,
+        t: f64,
+        yy: &[f64],
+        w: &mut Work,
+        out: &mut [f64],
+    ) -> Result<usize, FormulationError> {
+        let nn = self.n_unknowns();
+        let nc = self.n_coordinates();
+        let ke = self.energy_index();
+        let (q, v, s) = (&yy[..nc], &yy[nc..2 * nc], &yy[2 * nc..ke]);
+        let mut columns: Vec<usize> = Vec::new();
+        for &b in &self.force_bodies {
+            for comp in 0..3 {
+                columns.push(3 * b + comp);
+                columns.push(nc + 3 * b + comp);
+            }
+        }
+        columns.extend(2 * nc..ke);
+        for col in columns {
+            let x = yy[col];
+            let d = force_step(x);
+            for (side, sign) in [(0, 1.0), (1, -1.0)] {
+                w.q_pert.copy_from_slice(q);
+                w.v_pert.copy_from_slice(v);
+                w.s_pert.copy_from_slice(s);
+                if col < nc {
+                    w.q_pert[col] = x + sign * d;
+                } else if col < 2 * nc {
+                    w.v_pert[col - nc] = x + sign * d;
+                } else {
+                    w.s_pert[col - 2 * nc] = x + sign * d;
+                }
+                sin_cos_into(&w.q_pert, &mut w.sin_cos_pert);
+                let target = if side == 0 {
+                    &mut w.forces_pert
+                } else {
+                    &mut w.forces
+                };
+                self.forces_into(t, &w.q_pert, &w.v_pert, &w.s_pert, &w.sin_cos_pert, target)?;
+            }
+            for k in 0..nc {
+                out[col * nn + nc + k] -= (w.forces_pert[k] - w.forces[k]) / (2.0 * d);
+            }
+        }
+        Ok(0)
+    }
+}
+
+/// Step of the central differences of the forces: 10⁻⁹·max(1, |x|) (m, rad, m/s, rad/s).
+/// Contact forces vary on the scale of the penetration (micrometres) and of the friction ramp
+/// (v₀ ≈ 10⁻⁴ m/s), not of |x|: a step of a nanometre keeps the truncation error
+/// (δ/penetration)² below 10⁻⁶ for penetrations above a micrometre, while rounding,
+/// ε·|F|/δ, stays ≈ 10⁻³ N/m against contact stiffnesses of 10⁷–10⁹ N/m.
+fn force_step(x: f64) -> f64 {
+    let d = 1e-9 * x.abs().max(1.0);
+    (x + d) - x
+}
+
+/// ∂Φ_row/∂q of body `b`, component `comp` (0 if the row does not touch b).
+fn jac_entry(row: &crate::mechanics::constraints::ConstraintRow, b: usize, comp: usize) -> f64 {
+    let mut x = 0.0;
+    if row.body_a == Some(b) {
+        x += row.jac_a[comp];
+    }
+    if row.body_b == Some(b) {
+        x += row.jac_b[comp];
+    }
+    x
+}

@@ -1,0 +1,195 @@
+//! The DAE in residual form F(t, Y, Ẏ) = 0 (`formulation::residual_dae`), the equations IDA
+//! integrates: it is the same DAE as the explicit path's (the residual vanishes at the state,
+//! q̈ and λ of `Dae`), and its iteration matrix ∂F/∂Y + c ∂F/∂Ẏ matches forward differences of
+//! the residual — on the ideal four-bar, the clearance four-bar in contact (with and without
+//! energy bookkeeping) and the slider-crank (prismatic rows). Runs without the `ida` feature.
+
+mod common;
+use common::load;
+use linkdyn::formulation::residual::{ResidualForm, finite_difference_jacobian};
+use linkdyn::formulation::{Crossing, Dae, DaeOptions, Formulation};
+use linkdyn::model::Model;
+use linkdyn::solve::{Method, SolverOptions, Stepper, Stop};
+
+/// The residual form of the DAE of `model`.
+fn residual_of(dae: &Dae) -> Box<dyn ResidualForm> {
+    dae.residual_form()
+        .unwrap_or_else(|| panic!("the DAE has a residual form"))
+}
+
+/// A state of `model` at time t: the initial one, or (with `into_contact`) the state a short
+/// while after the first impact of the clearance joint, integrated with DOP853.
+fn state(model: &Model, energy: bool, into_contact: bool) -> (Dae, f64, Vec<f64>) {
+    let mut dae = Dae::new(
+        model,
+        &DaeOptions {
+            energy,
+            ..DaeOptions::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let y0 = dae.initial_state();
+    if !into_contact {
+        return (dae, 0.0, y0);
+    }
+    let opts = SolverOptions::default()
+        .method(Method::Dop853)
+        .rtol(1e-9)
+        .build()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let (t, y) = {
+        let mut stepper =
+            Stepper::new(&mut dae, 0.0, &y0, 0.5, &opts).unwrap_or_else(|e| panic!("{e}"));
+        let mut impact = None;
+        loop {
+            match stepper.step().unwrap_or_else(|e| panic!("{e}")) {
+                Stop::Event { t, .. }
+                    if stepper.last_event().map(|e| e.crossing) == Some(Crossing::Rising) =>
+                {
+                    impact = Some(t);
+                }
+                Stop::Step if impact.is_some_and(|ti| stepper.t() > ti + 2e-5) => break,
+                Stop::EndReached => panic!("no impact in 0.5 s"),
+                _ => {}
+            }
+        }
+        (stepper.t(), stepper.y().to_vec())
+    };
+    (dae, t, y)
+}
+
+/// Consistent (Y, Ẏ) at (t, y) from the DAE's own right-hand side.
+fn consistent(dae: &Dae, form: &dyn ResidualForm, t: f64, y: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let mut dy = vec![0.0; y.len()];
+    dae.rhs(t, y, &mut dy).unwrap_or_else(|e| panic!("{e}"));
+    let nn = form.n_unknowns();
+    let (mut yy, mut yp) = (vec![0.0; nn], vec![0.0; nn]);
+    form.consistent_values(t, y, &dy, &mut yy, &mut yp)
+        .unwrap_or_else(|e| panic!("{e}"));
+    (yy, yp)
+}
+
+/// At (y, ẏ = f(t, y)) with λ from the first block row, every residual row vanishes to
+/// round-off, and λ equals the multipliers of `Dae::evaluate`.
+fn check_consistent(case: &str, model: &Model, energy: bool, into_contact: bool) {
+    let (dae, t, y) = state(model, energy, into_contact);
+    let form = residual_of(&dae);
+    assert_eq!(form.n_states(), dae.n_states(), "{case}: n");
+    let (yy, yp) = consistent(&dae, &*form, t, &y);
+    let mut res = vec![0.0; form.n_unknowns()];
+    form.residual(t, &yy, &yp, &mut res)
+        .unwrap_or_else(|e| panic!("{e}"));
+    // Scale of each equation: forces of the dynamics rows (m·|q̈| and |Φ_qᵀλ|), accelerations
+    // of the constraint rows. Round-off of sums of such terms is ~1e-16 of them; 1e-9 leaves
+    // room for the Cholesky solves of both sides (condition numbers up to ~1e4 here).
+    let scale = yy.iter().chain(&yp).fold(1.0_f64, |m, x| m.max(x.abs()));
+    let worst = res.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
+    assert!(
+        worst <= 1e-9 * scale,
+        "{case}: largest residual {worst:e} vs bound {:e}",
+        1e-9 * scale
+    );
+    let eval = dae.evaluate(t, &y).unwrap_or_else(|e| panic!("{e}"));
+    let lambda_dae: Vec<f64> = (0..eval.lambda.len())
+        .filter(|k| !dae.redundant_rows().contains(k))
+        .map(|k| eval.lambda[k])
+        .collect();
+    let n = dae.n_states();
+    for (i, (a, b)) in yy[n..].iter().zip(&lambda_dae).enumerate() {
+        assert!(
+            (a - b).abs() <= 1e-9 * scale,
+            "{case}: λ_{i} residual form {a} vs Dae {b}"
+        );
+    }
+}
+
+/// The analytic iteration matrix against forward differences of the residual, entry by entry.
+fn check_jacobian(case: &str, model: &Model, energy: bool, into_contact: bool) {
+    let (dae, t, y) = state(model, energy, into_contact);
+    let form = residual_of(&dae);
+    let (yy, yp) = consistent(&dae, &*form, t, &y);
+    let nn = form.n_unknowns();
+    let mut res = vec![0.0; nn];
+    form.residual(t, &yy, &yp, &mut res)
+        .unwrap_or_else(|e| panic!("{e}"));
+    // c = α₀/h of a BDF step of 10 µs, a typical step in contact; c = 0 checks ∂F/∂Y alone
+    // (the curvature terms, which the c-scaled mass terms would dwarf).
+    // The energy rows keep only their diagonal (see `residual_dae`, "Left out on purpose"):
+    // they are checked for exactly that instead.
+    let energy_rows = if energy {
+        dae.n_states() - 3..dae.n_states()
+    } else {
+        0..0
+    };
+    for c in [1e5, 0.0] {
+        check_jacobian_at(case, &*form, t, &yy, &yp, &res, c, energy_rows.clone());
+    }
+}
+
+#[allow(clippy::too_many_arguments)] // one evaluation point, spelled out
+fn check_jacobian_at(
+    case: &str,
+    form: &dyn ResidualForm,
+    t: f64,
+    yy: &[f64],
+    yp: &[f64],
+    res: &[f64],
+    c: f64,
+    energy_rows: std::ops::Range<usize>,
+) {
+    let nn = form.n_unknowns();
+    let mut analytic = vec![0.0; nn * nn];
+    form.jacobian(t, yy, yp, res, c, &mut analytic)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut fd = vec![0.0; nn * nn];
+    finite_difference_jacobian(form, t, yy, yp, c, &mut fd).unwrap_or_else(|e| panic!("{e}"));
+    // The central differences are good to ~1e-10 of the row's terms, but the analytic matrix
+    // takes Q's columns by forward differences (δ ≈ 1e-8·√|x|: error ≈ 1e-7 of the force's
+    // size). The bound, 1e-5 of the largest entry of the row (rows mix N, m/s² and c-scaled
+    // entries, so each row is judged on its own scale), is a hundred times that; a wrong
+    // analytic term (a sign, a missing λ or ω² factor) is of the row's size and fails by
+    // orders of magnitude.
+    for i in energy_rows.clone() {
+        for j in 0..nn {
+            let expected = if i == j { c } else { 0.0 };
+            assert_eq!(
+                analytic[j * nn + i],
+                expected,
+                "{case}, c = {c:e}: energy row {i}, column {j}"
+            );
+        }
+    }
+    for i in (0..nn).filter(|i| !energy_rows.contains(i)) {
+        let row_scale = (0..nn).fold(0.0_f64, |m, j| m.max(fd[j * nn + i].abs()));
+        for j in 0..nn {
+            let (a, b) = (analytic[j * nn + i], fd[j * nn + i]);
+            assert!(
+                (a - b).abs() <= 1e-5 * row_scale + 1e-9,
+                "{case}, c = {c:e}: J[{i}][{j}] analytic {a:e} vs finite differences {b:e} (row scale {row_scale:e})"
+            );
+        }
+    }
+}
+
+#[test]
+fn residual_vanishes_at_the_dae_solution() {
+    let fourbar = load("models/fourbar_ideal.toml", &[]);
+    let farahan = load("models/farahan2016.toml", &[]);
+    let slider = load("models/slider_crank.toml", &[]);
+    check_consistent("fourbar_ideal, t = 0", &fourbar, false, false);
+    check_consistent("farahan2016, t = 0, energy", &farahan, true, false);
+    check_consistent("farahan2016, in contact", &farahan, false, true);
+    check_consistent("slider_crank, t = 0", &slider, false, false);
+}
+
+#[test]
+fn jacobian_matches_finite_differences() {
+    let fourbar = load("models/fourbar_ideal.toml", &[]);
+    let farahan = load("models/farahan2016.toml", &[]);
+    let slider = load("models/slider_crank.toml", &[]);
+    check_jacobian("fourbar_ideal, t = 0", &fourbar, false, false);
+    check_jacobian("farahan2016, t = 0", &farahan, false, false);
+    check_jacobian("farahan2016, in contact", &farahan, false, true);
+    check_jacobian("farahan2016, in contact, energy", &farahan, true, true);
+    check_jacobian("slider_crank, t = 0", &slider, false, false);
+}
