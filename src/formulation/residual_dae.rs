@@ -214,7 +214,7 @@ impl DaeResidual {
         sin_cos: &[(f64, f64)],
         out: &mut [f64],
     ) -> Result<Rates, FormulationError> {
-        self.applied.evaluate_into(q, v, sin_cos, out);
+        self.applied.evaluate_into(t, q, v, sin_cos, out);
         let contact_dissipation = if self.contacts.is_empty() {
             0.0
         } else {
@@ -233,7 +233,7 @@ impl DaeResidual {
         if !self.energy {
             return Ok([0.0; 2]);
         }
-        let (external, damping) = self.applied.power_split(q, v, sin_cos);
+        let (external, damping) = self.applied.power_split(t, q, v, sin_cos);
         Ok([external, contact_dissipation + damping])
     }
 
@@ -279,6 +279,10 @@ fn force_bodies(model: &Model, contacts: &ContactSites) -> Vec<usize> {
             // The moment arm of a point force turns with its body.
             ForceElement::PointForce { at, .. } => mark(at),
             ForceElement::Torque { .. } => {}
+            // An expression of time and state may read any body's coordinates.
+            ForceElement::TorqueLaw { .. }
+            | ForceElement::ForceLaw { .. }
+            | ForceElement::Motor { .. } => return (0..nb).collect(),
         }
     }
     (0..nb).filter(|&b| touched[b]).collect()
