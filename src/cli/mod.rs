@@ -19,6 +19,7 @@ mod progress;
 mod run;
 mod spectrum;
 mod stress;
+mod workprecision;
 
 use clap::{Parser, Subcommand};
 use linkdyn::Error;
@@ -61,6 +62,8 @@ enum Command {
     Plot(plot::PlotArgs),
     /// Stiff and extreme cases × formulations × methods with a verdict each (ok, slow, failed, refused).
     Stress(stress::StressArgs),
+    /// Error against run time for every formulation × method × tolerance (CSV, markdown, plot).
+    Workprecision(workprecision::WorkPrecisionArgs),
 }
 
 /// Loads a model file with its `--set` overrides and prints the model's notes (fields dropped
@@ -207,6 +210,7 @@ pub fn main() -> ExitCode {
         Command::Lyapunov(args) => lyapunov::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::Stress(args) => stress::run(&args),
+        Command::Workprecision(args) => workprecision::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
