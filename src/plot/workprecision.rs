@@ -16,9 +16,16 @@ const DOT: u32 = 4;
 pub fn workprecision(report: &WorkPrecisionReport) -> Result<Figure, PlotError> {
     let mut fig = Figure::new(
         format!(
-            "Work against precision: {} ({} s, median of {} runs)",
+            "Work against precision: {}{} ({:.4} s, median of {} runs)",
             report.model,
-            crate::simulation::format_number(report.t_end),
+            report
+                .provenance
+                .model
+                .overrides
+                .iter()
+                .map(|o| format!(", {o}"))
+                .collect::<String>(),
+            report.t_end,
             report.options.repeats
         ),
         Axis {
