@@ -88,10 +88,10 @@ fn ideal_four_bar_follows_the_loop_closure() {
 }
 
 /// Compares a Radau5 run of `f` with a DOP853 reference: impacts, impact times and angles.
-fn agrees_with_dop853<F: Formulation + Outputs + Clone>(name: &str, f: &F) {
+fn agrees_with_dop853<F: Formulation + Outputs + Clone>(name: &str, f: &F, rtol: f64) {
     let t_end = 2.0 * 60.0 / 250.0;
     let (reference, _) = run(f, t_end, Method::Dop853, 1e-12);
-    let (rec, stats) = run(f, t_end, Method::Radau5, 1e-10);
+    let (rec, stats) = run(f, t_end, Method::Radau5, rtol);
     assert_eq!(
         rec.events.len(),
         reference.events.len(),
@@ -124,9 +124,10 @@ fn agrees_with_dop853<F: Formulation + Outputs + Clone>(name: &str, f: &F) {
             worst = worst.max((a - b).abs());
         }
     }
-    // Radau5 at rtol = 1e-10 (Hairer's transform: local tolerance 4.6e-9) measured 1.0e-9
-    // (reduced) and 5.9e-9 rad (DAE) against a DOP853 run at rtol 1e-12 (error ≲ 1e-11);
-    // 3e-8 rad leaves a factor 5 for platform rounding over 43 impact restarts.
+    // Radau5 at rtol = 1e-10 (Hairer's transform: local tolerance 4.6e-9) measured 5.9e-9 rad
+    // (DAE, forward-difference Jacobian) and, at rtol 1e-11 with the analytic Jacobian, 1.6e-9
+    // rad (reduced) against a DOP853 run at rtol 1e-12 (error ≲ 1e-11); 3e-8 rad leaves a
+    // factor 5 for platform rounding over 43 impact restarts.
     assert!(
         worst < 3e-8,
         "{name}: max angle difference to DOP853 = {worst:e} rad ({stats:?})"
@@ -137,7 +138,11 @@ fn agrees_with_dop853<F: Formulation + Outputs + Clone>(name: &str, f: &F) {
 fn clearance_four_bar_reduced_agrees_with_dop853() {
     let model = load("models/farahan2016.toml", &[]);
     match ReducedLagrangian::new(&model) {
-        Ok(f) => agrees_with_dop853("reduced", &f),
+        // rtol 1e-11, not 1e-10: the reduced run's error is ragged in rtol (a stick–slip
+        // transition, docs/numerics.md): at 1e-10 the analytic Jacobian's run measured 2.6e-7
+        // rad and event times 2.1e-6 s off (the forward-difference Jacobian's 1.2e-9 rad there
+        // was the lucky point: 1.2e-7 at 1e-9, 6.7e-9 at 1e-11); at 1e-11, 1.6e-9 rad, 2e-8 s.
+        Ok(f) => agrees_with_dop853("reduced", &f, 1e-11),
         Err(e) => panic!("{e}"),
     }
 }
@@ -146,7 +151,7 @@ fn clearance_four_bar_reduced_agrees_with_dop853() {
 fn clearance_four_bar_dae_agrees_with_dop853() {
     let model = load("models/farahan2016.toml", &[]);
     match Dae::new(&model, &DaeOptions::default()) {
-        Ok(f) => agrees_with_dop853("dae", &f),
+        Ok(f) => agrees_with_dop853("dae", &f, 1e-10),
         Err(e) => panic!("{e}"),
     }
 }

@@ -11,6 +11,7 @@
 //! | [`phase`] | phase-portrait data (value against rate) |
 //! | [`stress`] | stress table: extreme cases × formulations × methods, a verdict each |
 //! | [`sweep`] | parameter-sweep bookkeeping: grid, shards, resume, merge, parallel map |
+//! | [`workprecision`] | error against cost for every formulation × method × tolerance |
 //! | [`error`] | [`AnalysisError`] |
 
 pub mod compare;
@@ -22,6 +23,7 @@ pub mod poincare;
 pub mod spectrum;
 pub mod stress;
 pub mod sweep;
+pub mod workprecision;
 
 pub use compare::{
     ColumnDifference, Comparison, FormulationComparison, Sampled, compare, compare_formulations,

@@ -20,6 +20,7 @@ mod reproduce;
 mod run;
 mod spectrum;
 mod stress;
+mod workprecision;
 
 use clap::{Parser, Subcommand};
 use linkdyn::Error;
@@ -65,6 +66,8 @@ enum Command {
     Reproduce(reproduce::ReproduceArgs),
     /// Stiff and extreme cases × formulations × methods with a verdict each (ok, slow, failed, refused).
     Stress(stress::StressArgs),
+    /// Error against run time for every formulation × method × tolerance (CSV, markdown, plot).
+    Workprecision(workprecision::WorkPrecisionArgs),
 }
 
 /// Loads a model file with its `--set` overrides, makes the clearance joints named by `--ideal`
@@ -214,6 +217,7 @@ pub fn main() -> ExitCode {
         Command::Plot(args) => plot::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Stress(args) => stress::run(&args),
+        Command::Workprecision(args) => workprecision::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

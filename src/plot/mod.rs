@@ -5,6 +5,7 @@
 //! The path is data → [`Figure`] → file:
 //!
 //! * [`Table`] reads a linkdyn CSV result file (`#` provenance lines, a header, numbers);
+//! * [`workprecision::workprecision`] draws a work–precision table (error against time);
 //! * the builders in [`figures`] turn tables into a [`Figure`]: titles, axis labels with units
 //!   ([`axis_label`]), series and marks. They select and scale columns (m → mm for the orbit)
 //!   and compute nothing else;
@@ -30,6 +31,7 @@ mod mechanism;
 mod render;
 mod table;
 mod units;
+pub mod workprecision;
 
 pub use error::PlotError;
 pub use mechanism::{mechanism, row_at};
