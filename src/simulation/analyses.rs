@@ -64,6 +64,10 @@ macro_rules! with_formulation {
                 let mut $f = (**b).clone();
                 $body
             }
+            Built::Generalized(b) => {
+                let mut $f = (**b).clone();
+                $body
+            }
         }
     };
 }
@@ -409,15 +413,19 @@ pub fn lyapunov_scales(sim: &Simulation, omega: f64, n: usize) -> Vec<f64> {
         .fold(0.0_f64, f64::max);
     let length = if length > 0.0 { length } else { 1.0 };
     let mut scales = vec![1.0; n];
-    match &sim.formulation {
-        Built::Dae(f) => {
-            let nq = f.n_coordinates();
+    let coordinates = match &sim.formulation {
+        Built::Dae(f) => Some(f.n_coordinates()),
+        Built::Generalized(f) => Some(f.n_coordinates()),
+        Built::Reduced(_) => None,
+    };
+    match coordinates {
+        Some(nq) => {
             for (i, s) in scales.iter_mut().enumerate().take(2 * nq) {
                 let position = if (i % nq) % 3 == 2 { 1.0 } else { length };
                 *s = if i < nq { position } else { omega * position };
             }
         }
-        Built::Reduced(_) => {
+        None => {
             for s in scales.iter_mut().skip(2).take(2) {
                 *s = omega;
             }
