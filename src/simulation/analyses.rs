@@ -402,7 +402,7 @@ pub struct LyapunovSpec {
 /// * bookkeeping states (masked, never measured): 1.
 ///
 /// States are laid out as the formulations do: DAE q = (x, y, φ) per body then q̇, then
-/// bookkeeping; reduced (θ3, θ4, θ̇3, θ̇4, δ̇⁽⁻⁾).
+/// bookkeeping; reduced (θ3, θ4, θ̇3, θ̇4, δ̇⁽⁻⁾); generalized (z, ż, bookkeeping).
 pub fn lyapunov_scales(sim: &Simulation, omega: f64, n: usize) -> Vec<f64> {
     let length = sim
         .model
@@ -413,10 +413,12 @@ pub fn lyapunov_scales(sim: &Simulation, omega: f64, n: usize) -> Vec<f64> {
         .fold(0.0_f64, f64::max);
     let length = if length > 0.0 { length } else { 1.0 };
     let mut scales = vec![1.0; n];
-    let coordinates = match &sim.formulation {
-        Built::Dae(f) => Some(f.n_coordinates()),
-        Built::Generalized(f) => Some(f.n_coordinates()),
-        Built::Reduced(_) => None,
+    // Generalized: z (f coordinates, mixed lengths and angles: scale 1) then ż (scale ω), then
+    // bookkeeping.
+    let (coordinates, rates) = match &sim.formulation {
+        Built::Dae(f) => (Some(f.n_coordinates()), 2..4),
+        Built::Generalized(f) => (None, f.dof()..2 * f.dof()),
+        Built::Reduced(_) => (None, 2..4),
     };
     match coordinates {
         Some(nq) => {
@@ -426,7 +428,7 @@ pub fn lyapunov_scales(sim: &Simulation, omega: f64, n: usize) -> Vec<f64> {
             }
         }
         None => {
-            for s in scales.iter_mut().skip(2).take(2) {
+            for s in scales.iter_mut().skip(rates.start).take(rates.len()) {
                 *s = omega;
             }
         }

@@ -9,23 +9,31 @@
 //! ```text
 //!     positions:      Φ(q_D, q_I, t) = 0            Newton, Φ_qD Δq_D = −Φ, from the stored q_D
 //!     velocities:     Φ_qD q̇_D = −Φ_qI q̇_I − Φ_t    one linear solve with the same LU
-//!     accelerations:  M q̈ + Φ_qᵀ λ = Q,  Φ_q q̈ = γ    the DAE's multiplier solve at that state
+//!     accelerations:  (Bᵀ M B) q̈_I = Bᵀ (Q − M c),   q̈_D = B_D q̈_I + c_D
 //! ```
 //!
-//! so the constraints hold to Newton's tolerance at every stage, output and event: there is no
-//! constraint drift by construction and no Baumgarte term (the DAE's is switched off: at a
-//! consistent state Φ = Φ̇ = 0 and q̈ is the exact constrained acceleration, so q̈_I is the
-//! right-hand side of the reduced equations, ref. 1 §4).
+//! with the velocity transformation q̇ = B q̇_I, B_I = I, B_D = −Φ_qD⁻¹ Φ_qI, and
+//! c_D = Φ_qD⁻¹ γ (the Maggi / velocity-transformation form of the equations of motion, ref. 3
+//! §6.5). The constraints hold to Newton's tolerance at every stage, output and event: there is
+//! no constraint drift by construction and no Baumgarte term. The reduced mass matrix Bᵀ M B is
+//! SPD whatever the rank of Φ_q, and B and c only use Φ_qD⁻¹, whose condition grows like 1/s at
+//! a distance s from a singular position (against 1/s² for the DAE's Φ_q M⁻¹ Φ_qᵀ): along the
+//! branch the motion is on, B and c stay bounded and smooth through the singular position, so
+//! the step size does not collapse there. Joint reactions (outputs only) come from the DAE's
+//! multiplier solve at the projected state (Baumgarte off); at a singular position they are not
+//! unique and the DAE's rank-robust factorisation returns regularised ones.
 //!
-//! **State.** y = (q, q̇, the DAE's bookkeeping states, the partition flags): the same layout
-//! as [`Dae`] followed by one flag per coordinate (1 = independent, 0 = dependent), so that the
-//! partition, a discrete state, lives in y like the stored impact velocities
-//! (`contacts.rs`): the equations stay a pure function of (t, y). The dependent components of q
-//! and q̇ in y are integrated too, with the exact derivatives q̇_D and q̈_D of the projected
-//! state: they are the warm start of Newton (within a local error of the solution, so one or
-//! two iterations suffice and Newton stays on the branch the motion is on), never the result.
-//! The error norm covers q and q̇ (the integrators fix their mask once per run, while the
-//! partition changes); the flags are bookkeeping.
+//! **State.** y = (z, ż, the DAE's state (q, q̇, stored impact velocities, energy integrals),
+//! the partition flags): z holds the f independent coordinates in the order of q, ż their
+//! rates; the error norm covers z and ż only. The DAE's q and q̇ in y are bookkeeping: they are
+//! integrated with the exact derivatives (q̇, q̈) of the projected state and are the warm start
+//! of Newton for the dependent coordinates (within a local error of the solution, so one or two
+//! iterations suffice and Newton stays on the branch the motion is on), never the result; their
+//! independent entries are overwritten by z. The flags (1 = independent, 0 = dependent, one
+//! per coordinate) hold the partition, a discrete state, in y like the stored impact velocities
+//! (`contacts.rs`): the equations stay a pure function of (t, y). Keeping the dependent entries
+//! out of the error norm matters near a singular position, where their rates are 0/0 limits
+//! computed to a relative accuracy of ε/s only.
 //!
 //! **Partition and repartitioning.** Independent coordinates are those *not* chosen as pivot
 //! columns by Gaussian elimination with complete pivoting of the scaled Jacobian
@@ -56,11 +64,15 @@
 //!    247–255.
 //! 2. E. J. Haug, *Computer-Aided Kinematics and Dynamics of Mechanical Systems*, vol. 1,
 //!    Allyn and Bacon, 1989, §6.3 (Newton with a fixed partition, repartitioning).
+//! 3. J. García de Jalón, E. Bayo, *Kinematic and Dynamic Simulation of Multibody Systems: the
+//!    Real-Time Challenge*, Springer, 1994, §6.5 (velocity transformations, Maggi's equations).
 
 pub mod lu;
 
+use super::contacts::ContactSites;
 use super::dae::{Dae, DaeOptions};
 use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
+use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
 use crate::model::{Baumgarte, Model};
 use std::cell::RefCell;
@@ -98,6 +110,18 @@ struct Work {
     /// The projected DAE state and its derivative.
     y: Vec<f64>,
     dy: Vec<f64>,
+    /// Independent coordinates.
+    indep: Vec<usize>,
+    /// B_D (m × f, row-major): −Φ_qD⁻¹ Φ_qI.
+    b_dep: Vec<f64>,
+    /// c_D = Φ_qD⁻¹ γ (m).
+    c_dep: Vec<f64>,
+    /// Generalised forces Q (n).
+    forces: Vec<f64>,
+    /// Reduced mass matrix Bᵀ M B (f × f) and its right-hand side.
+    reduced: Vec<f64>,
+    reduced_piv: Vec<usize>,
+    reduced_rhs: Vec<f64>,
     /// Largest |Φ| (m or rad) left by the last projection.
     residual: f64,
 }
@@ -116,6 +140,14 @@ pub struct Generalized {
     row_weight: Vec<f64>,
     /// Number of the DAE's states (q, q̇, bookkeeping).
     n_dae: usize,
+    /// f: independent coordinates (degrees of freedom); the DAE's state starts at 2f.
+    n_indep: usize,
+    /// Diagonal of M: m, m, I per body.
+    mass: Vec<f64>,
+    applied: AppliedForces,
+    contacts: ContactSites,
+    /// Energy bookkeeping on: its rates come from the DAE's evaluation at the projected state.
+    energy: bool,
     /// Largest |Φ| over the accepted step ends (m or rad).
     max_step_violation: f64,
     work: RefCell<Work>,
@@ -168,6 +200,13 @@ impl Generalized {
                 col_perm: vec![0; n],
                 y: vec![0.0; n_dae],
                 dy: vec![0.0; n_dae],
+                indep: vec![0; n - m],
+                b_dep: vec![0.0; m * (n - m)],
+                c_dep: vec![0.0; m],
+                forces: vec![0.0; n],
+                reduced: vec![0.0; (n - m) * (n - m)],
+                reduced_piv: vec![0; n - m],
+                reduced_rhs: vec![0.0; n - m],
                 residual: 0.0,
             }),
             dae,
@@ -176,6 +215,15 @@ impl Generalized {
             length_scale,
             row_weight,
             n_dae,
+            n_indep: n - m,
+            mass: model
+                .bodies
+                .iter()
+                .flat_map(|b| [b.mass, b.mass, b.inertia])
+                .collect(),
+            applied: AppliedForces::from_model(model),
+            contacts: ContactSites::from_model(model),
+            energy: options.energy,
             max_step_violation: 0.0,
         })
     }
@@ -203,7 +251,30 @@ impl Generalized {
     /// The independent coordinates of the partition stored in `y` (indices into q).
     pub fn independent(&self, y: &[f64]) -> Vec<usize> {
         let n = self.n_coordinates();
-        (0..n).filter(|&i| y[self.n_dae + i] != 0.0).collect()
+        (0..n)
+            .filter(|&i| y[self.flags_start() + i] != 0.0)
+            .collect()
+    }
+
+    /// Index in y of the DAE's state.
+    fn dae_start(&self) -> usize {
+        2 * self.n_indep
+    }
+
+    /// Index in y of the partition flags.
+    fn flags_start(&self) -> usize {
+        2 * self.n_indep + self.n_dae
+    }
+
+    /// Writes the DAE state in `work.y` back into y: its z, ż and the bookkeeping copy.
+    fn store(&self, work: &Work, y: &mut [f64]) {
+        let (f, n) = (self.n_indep, self.n_coordinates());
+        for (k, &c) in work.indep.iter().enumerate() {
+            y[k] = work.y[c];
+            y[f + k] = work.y[n + c];
+        }
+        let start = self.dae_start();
+        y[start..start + self.n_dae].copy_from_slice(&work.y);
     }
 
     /// The DAE state (q, q̇, bookkeeping) of `y` projected onto the constraints with the
@@ -258,11 +329,13 @@ impl Generalized {
     fn project_into(&self, t: f64, y: &[f64], work: &mut Work) -> Result<(), FormulationError> {
         let n = self.n_coordinates();
         let m = self.active.len();
-        work.y.copy_from_slice(&y[..self.n_dae]);
+        let (f, start, flags) = (self.n_indep, self.dae_start(), self.flags_start());
+        work.y.copy_from_slice(&y[start..start + self.n_dae]);
         // The partition from the flags.
         let mut j = 0;
+        let mut k = 0;
         for c in 0..n {
-            if y[self.n_dae + c] == 0.0 {
+            if y[flags + c] == 0.0 {
                 if j == m {
                     return Err(self.bad_partition(m + 1));
                 }
@@ -271,10 +344,19 @@ impl Generalized {
                 j += 1;
             } else {
                 work.col_of[c] = usize::MAX;
+                if k < n - m {
+                    work.indep[k] = c;
+                }
+                k += 1;
             }
         }
         if j != m {
             return Err(self.bad_partition(j));
+        }
+        // The independent coordinates and rates are z and ż.
+        for (kk, &c) in work.indep.iter().enumerate() {
+            work.y[c] = y[kk];
+            work.y[n + c] = y[f + kk];
         }
         if m == 0 {
             work.residual = 0.0;
@@ -341,6 +423,106 @@ impl Generalized {
         let (q, rest) = work.y.split_at(n);
         self.constraints
             .evaluate_into(t, q, &rest[..n], &work.sin_cos, &mut work.eval);
+    }
+
+    /// q̈ at the projected state in `work` (Maggi form, see the module documentation), with the
+    /// LU factors of Φ_qD from the projection.
+    fn accelerations_into(
+        &self,
+        t: f64,
+        work: &mut Work,
+        acc: &mut [f64],
+    ) -> Result<(), FormulationError> {
+        let n = self.n_coordinates();
+        let m = self.active.len();
+        let f = n - m;
+        // γ at the projected velocities (the last evaluation used the predicted ones).
+        self.evaluate_at_projection(t, work);
+        let (q, rest) = work.y.split_at(n);
+        let (v, stored) = rest.split_at(n);
+        self.applied
+            .evaluate_into(q, v, &work.sin_cos, &mut work.forces);
+        if !self.contacts.is_empty() {
+            self.contacts.add_forces_into(
+                t,
+                q,
+                v,
+                &work.sin_cos,
+                &stored[..self.contacts.len()],
+                &mut work.forces,
+                false,
+                |j| self.dae.model().joint(j).name.clone(),
+            )?;
+        }
+        // B_D column by column: Φ_qD b = −Φ_q e_k for each independent coordinate k.
+        for (kk, &c) in work.indep.iter().enumerate() {
+            work.rhs.fill(0.0);
+            let (body, comp) = (c / 3, c % 3);
+            for (i, &row) in self.active.iter().enumerate() {
+                let r = &work.eval.rows[row];
+                if r.body_a == Some(body) {
+                    work.rhs[i] -= r.jac_a[comp];
+                }
+                if r.body_b == Some(body) {
+                    work.rhs[i] -= r.jac_b[comp];
+                }
+            }
+            lu::solve(&work.block, m, &work.piv, &mut work.rhs);
+            for i in 0..m {
+                work.b_dep[i * f + kk] = work.rhs[i];
+            }
+        }
+        for (i, &row) in self.active.iter().enumerate() {
+            work.c_dep[i] = work.eval.gamma[row];
+        }
+        lu::solve(&work.block, m, &work.piv, &mut work.c_dep);
+        // Bᵀ M B and Bᵀ (Q − M c).
+        work.reduced.fill(0.0);
+        for (kk, &c) in work.indep.iter().enumerate() {
+            work.reduced[kk * f + kk] = self.mass[c];
+            work.reduced_rhs[kk] = work.forces[c];
+        }
+        for (i, &c) in work.dep.iter().enumerate() {
+            let mass = self.mass[c];
+            let load = work.forces[c] - mass * work.c_dep[i];
+            let row = &work.b_dep[i * f..i * f + f];
+            for a in 0..f {
+                work.reduced_rhs[a] += row[a] * load;
+                for b in 0..f {
+                    work.reduced[a * f + b] += row[a] * mass * row[b];
+                }
+            }
+        }
+        if let Err(k) = lu::factor(&mut work.reduced, f, &mut work.reduced_piv) {
+            return Err(FormulationError::NonFinite {
+                t,
+                body: self.dae.model().bodies[work.indep[k] / 3].name.clone(),
+                what: "reduced mass matrix".into(),
+            });
+        }
+        lu::solve(&work.reduced, f, &work.reduced_piv, &mut work.reduced_rhs);
+        for (kk, &c) in work.indep.iter().enumerate() {
+            acc[c] = work.reduced_rhs[kk];
+        }
+        for (i, &c) in work.dep.iter().enumerate() {
+            let row = &work.b_dep[i * f..i * f + f];
+            acc[c] = work.c_dep[i]
+                + row
+                    .iter()
+                    .zip(&work.reduced_rhs)
+                    .map(|(b, a)| b * a)
+                    .sum::<f64>();
+        }
+        for (i, body) in self.dae.model().bodies.iter().enumerate() {
+            if !acc[3 * i..3 * i + 3].iter().all(|x| x.is_finite()) {
+                return Err(FormulationError::NonFinite {
+                    t,
+                    body: body.name.clone(),
+                    what: "acceleration".into(),
+                });
+            }
+        }
+        Ok(())
     }
 
     fn bad_partition(&self, dependent: usize) -> FormulationError {
@@ -432,20 +614,30 @@ impl Generalized {
 }
 
 impl Formulation for Generalized {
-    /// The DAE's states (q, q̇, stored impact velocities, energy integrals) and one partition
-    /// flag per coordinate.
+    /// z and ż (f each), the DAE's states (q, q̇, stored impact velocities, energy integrals)
+    /// and one partition flag per coordinate.
     fn n_states(&self) -> usize {
-        self.n_dae + self.n_coordinates()
+        self.flags_start() + self.n_coordinates()
     }
 
     fn initial_state(&self) -> Vec<f64> {
-        let mut y = self.dae.initial_state();
         let n = self.n_coordinates();
-        y.resize(self.n_dae + n, 0.0);
+        let dae_state = self.dae.initial_state();
+        let mut y = vec![0.0; self.n_states()];
+        let (start, flags) = (self.dae_start(), self.flags_start());
+        y[start..start + self.n_dae].copy_from_slice(&dae_state);
         let mut work = self.work.borrow_mut();
-        work.y.copy_from_slice(&y[..self.n_dae]);
+        work.y.copy_from_slice(&dae_state);
         self.evaluate_at_projection(self.dae.t0(), &mut work);
-        self.best_partition(&mut work, &mut y[self.n_dae..]);
+        self.best_partition(&mut work, &mut y[flags..flags + n]);
+        let mut k = 0;
+        for c in 0..n {
+            if y[flags + c] != 0.0 && k < self.n_indep {
+                y[k] = dae_state[c];
+                y[self.n_indep + k] = dae_state[n + c];
+                k += 1;
+            }
+        }
         y
     }
 
@@ -456,19 +648,34 @@ impl Formulation for Generalized {
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
         let mut work = self.work.borrow_mut();
         self.project_into(t, y, &mut work)?;
-        let Work { y: yp, dy: dyp, .. } = &mut *work;
-        self.dae.rhs(t, yp, dyp)?;
-        dy[..self.n_dae].copy_from_slice(dyp);
-        dy[self.n_dae..].fill(0.0);
+        let (f, n) = (self.n_indep, self.n_coordinates());
+        let start = self.dae_start();
+        let (head, rest) = dy.split_at_mut(start);
+        let (dae_dy, flags_dy) = rest.split_at_mut(self.n_dae);
+        flags_dy.fill(0.0);
+        if self.energy {
+            // Only for the energy integrals' rates (q̇ and q̈ are overwritten below).
+            let Work { y: yp, dy: dyp, .. } = &mut *work;
+            self.dae.rhs(t, yp, dyp)?;
+            dae_dy.copy_from_slice(dyp);
+        } else {
+            dae_dy[2 * n..].fill(0.0);
+        }
+        dae_dy[..n].copy_from_slice(&work.y[n..2 * n]);
+        self.accelerations_into(t, &mut work, &mut dae_dy[n..2 * n])?;
+        for (k, &c) in work.indep.iter().enumerate() {
+            head[k] = dae_dy[c];
+            head[f + k] = dae_dy[n + c];
+        }
         Ok(())
     }
 
-    /// q and q̇ are controlled (see the module documentation); the DAE's bookkeeping states and
-    /// the partition flags are not.
+    /// z and ż are controlled; the DAE's copy of q and q̇ (Newton's warm start), its
+    /// bookkeeping states and the partition flags are not.
     fn error_controlled(&self, controlled: &mut [bool]) {
-        let (dae, flags) = controlled.split_at_mut(self.n_dae);
-        self.dae.error_controlled(dae);
-        flags.fill(false);
+        let (z, rest) = controlled.split_at_mut(self.dae_start());
+        z.fill(true);
+        rest.fill(false);
     }
 
     fn n_events(&self) -> usize {
@@ -481,7 +688,8 @@ impl Formulation for Generalized {
         if self.project_into(t, y, &mut work).is_err() {
             // A failed projection is reported by the integrator's own rhs call; keep the
             // event functions defined (unprojected) meanwhile.
-            work.y.copy_from_slice(&y[..self.n_dae]);
+            let start = self.dae_start();
+            work.y.copy_from_slice(&y[start..start + self.n_dae]);
             self.evaluate_at_projection(t, &mut work);
         }
         self.dae.events(t, &work.y, &mut g[..nc]);
@@ -499,27 +707,38 @@ impl Formulation for Generalized {
         crossing: Crossing,
     ) -> EventResponse {
         let nc = self.dae.n_events();
-        let n_dae = self.n_dae;
-        let n = self.n_coordinates();
+        let (n, f) = (self.n_coordinates(), self.n_indep);
+        let (start, flags_at) = (self.dae_start(), self.flags_start());
         let mut w = self.work.borrow_mut();
         if self.project_into(t, y, &mut w).is_ok() {
-            y[..n_dae].copy_from_slice(&w.y);
+            self.store(&w, y);
         }
         if index < nc {
             drop(w);
-            return self.dae.apply_event(t, &mut y[..n_dae], index, crossing);
+            let response =
+                self.dae
+                    .apply_event(t, &mut y[start..start + self.n_dae], index, crossing);
+            return response;
         }
         if crossing != Crossing::Falling {
             return EventResponse::Continue;
         }
-        w.y.copy_from_slice(&y[..n_dae]);
+        w.y.copy_from_slice(&y[start..start + self.n_dae]);
         self.evaluate_at_projection(t, &mut w);
         let mut flags = vec![0.0; n];
         self.best_partition(&mut w, &mut flags);
-        if flags[..] == y[n_dae..n_dae + n] {
+        if flags[..] == y[flags_at..flags_at + n] {
             return EventResponse::Continue;
         }
-        y[n_dae..n_dae + n].copy_from_slice(&flags);
+        y[flags_at..flags_at + n].copy_from_slice(&flags);
+        let mut k = 0;
+        for (c, &flag) in flags.iter().enumerate() {
+            if flag != 0.0 && k < f {
+                y[k] = w.y[c];
+                y[f + k] = w.y[n + c];
+                k += 1;
+            }
+        }
         EventResponse::Restart
     }
 
