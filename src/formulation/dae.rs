@@ -256,18 +256,8 @@ impl Dae {
         let ce = &work.constraints;
         let Baumgarte { alpha, beta } = self.baumgarte;
         // W = M⁻¹ Φ_qᵀ by row blocks, and the right-hand side Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ).
-        // Largest relative violation |Φ|/L (position rows) or |Φ| (angle rows): sets the pivot
-        // floor of the rank-robust factorisation (see [`DRIFT_FLOOR_FACTOR`]).
-        let mut drift = 0.0_f64;
-        let inv_length = 1.0 / self.length_scale;
         for (i, &ri) in self.active.iter().enumerate() {
             let row = &ce.rows[ri];
-            let scale = if is_angle_row(self.constraints.sources()[ri]) {
-                1.0
-            } else {
-                inv_length
-            };
-            drift = drift.max(ce.phi[ri].abs() * scale);
             let mut rhs = -(ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri]);
             for (side, (body, jac)) in [(row.body_a, &row.jac_a), (row.body_b, &row.jac_b)]
                 .into_iter()
@@ -299,7 +289,7 @@ impl Dae {
             };
             work.schur[p.i * ma + p.j] += w[0] * jac[0] + w[1] * jac[1] + w[2] * jac[2];
         }
-        if let Err(pivot) = cholesky::factor(&mut work.schur, ma, DRIFT_FLOOR_FACTOR * drift) {
+        if let Err(pivot) = cholesky::factor(&mut work.schur, ma) {
             return Err(FormulationError::SingularConstraints {
                 t,
                 constraint: self.constraints.row_name(&self.model, self.active[pivot]),
@@ -559,18 +549,6 @@ fn couplings(set: &ConstraintSet, active: &[usize], assembly: &Assembly) -> Vec<
     }
     out
 }
-
-/// Pivot floor of the rank-robust factorisation of S = Φ_q M⁻¹ Φ_qᵀ per unit of relative
-/// constraint violation: pivots d_j < ε S_jj are raised to ε S_jj ([`cholesky::factor`]) with
-/// ε = max(1e-10, 100·|Φ|/L). Why: near a singular position where two assembly branches cross
-/// (the flat position of a parallelogram), the level sets Φ = const are hyperbolas that turn
-/// onto the *other* branch; a motion that carries a violation |Φ| follows them once the branches
-/// are closer than √(|Φ| L). Below that distance the lost row has to be let go, so that the
-/// motion crosses in a straight line and comes out on its own branch; the pivot ratio d_j/S_jj
-/// is the squared (relative) distance, so ε = 100 |Φ|/L lets go at ten times √(|Φ| L), keeping
-/// the deviation at 1 % of the branch separation. On a regular linkage the pivot ratios are
-/// O(0.1–1) and nothing changes. See docs/formulations.md.
-pub const DRIFT_FLOOR_FACTOR: f64 = 100.0;
 
 /// Smallest length scale (m) used for the violation bound, for a linkage whose points all
 /// coincide (a body pinned at its own centre of mass): 1 mm, below any shipped link.
