@@ -8,12 +8,14 @@ pub mod assembly;
 pub mod cholesky;
 pub mod contacts;
 pub mod dae;
+pub mod generalized;
 pub mod jacobian;
 pub mod reduced_lagrangian;
 pub mod residual;
 pub mod residual_dae;
 
 pub use dae::{Dae, DaeOptions};
+pub use generalized::Generalized;
 pub use reduced_lagrangian::ReducedLagrangian;
 
 use thiserror::Error;
@@ -238,6 +240,22 @@ pub enum FormulationError {
         /// Why that is a conflict.
         reason: String,
     },
+    /// The generalised-coordinate formulation could not bring the constraints back to zero
+    /// from the integrator's predicted dependent coordinates (a step so large that the
+    /// prediction left Newton's reach). Recoverable: a smaller step predicts better.
+    #[error(
+        "the dependent coordinates could not be recovered at t = {t:.9} s: constraint \"{constraint}\" is still off by {residual:.3e} (m or rad) after {iterations} Newton iterations"
+    )]
+    ProjectionFailed {
+        /// Time (s).
+        t: f64,
+        /// Row with the largest residual (joint row "A.x" or driver name).
+        constraint: String,
+        /// Its |Φ| (m or rad).
+        residual: f64,
+        /// Newton iterations done.
+        iterations: usize,
+    },
     /// The model does not fit this formulation.
     #[error("{formulation} formulation: {reason}")]
     Unsupported {
@@ -253,6 +271,9 @@ impl FormulationError {
     /// avoid (a stage that overshoots into a contact). The integrators then reject the step and
     /// retry with a smaller one, and report the error only when no step size avoids it.
     pub fn is_recoverable(&self) -> bool {
-        matches!(self, FormulationError::PenetrationTooDeep { .. })
+        matches!(
+            self,
+            FormulationError::PenetrationTooDeep { .. } | FormulationError::ProjectionFailed { .. }
+        )
     }
 }

@@ -64,6 +64,10 @@ macro_rules! with_formulation {
                 let mut $f = (**b).clone();
                 $body
             }
+            Built::Generalized(b) => {
+                let mut $f = (**b).clone();
+                $body
+            }
         }
     };
 }
@@ -398,7 +402,7 @@ pub struct LyapunovSpec {
 /// * bookkeeping states (masked, never measured): 1.
 ///
 /// States are laid out as the formulations do: DAE q = (x, y, φ) per body then q̇, then
-/// bookkeeping; reduced (θ3, θ4, θ̇3, θ̇4, δ̇⁽⁻⁾).
+/// bookkeeping; reduced (θ3, θ4, θ̇3, θ̇4, δ̇⁽⁻⁾); generalized (z, ż, bookkeeping).
 pub fn lyapunov_scales(sim: &Simulation, omega: f64, n: usize) -> Vec<f64> {
     let length = sim
         .model
@@ -409,16 +413,22 @@ pub fn lyapunov_scales(sim: &Simulation, omega: f64, n: usize) -> Vec<f64> {
         .fold(0.0_f64, f64::max);
     let length = if length > 0.0 { length } else { 1.0 };
     let mut scales = vec![1.0; n];
-    match &sim.formulation {
-        Built::Dae(f) => {
-            let nq = f.n_coordinates();
+    // Generalized: z (f coordinates, mixed lengths and angles: scale 1) then ż (scale ω), then
+    // bookkeeping.
+    let (coordinates, rates) = match &sim.formulation {
+        Built::Dae(f) => (Some(f.n_coordinates()), 2..4),
+        Built::Generalized(f) => (None, f.dof()..2 * f.dof()),
+        Built::Reduced(_) => (None, 2..4),
+    };
+    match coordinates {
+        Some(nq) => {
             for (i, s) in scales.iter_mut().enumerate().take(2 * nq) {
                 let position = if (i % nq) % 3 == 2 { 1.0 } else { length };
                 *s = if i < nq { position } else { omega * position };
             }
         }
-        Built::Reduced(_) => {
-            for s in scales.iter_mut().skip(2).take(2) {
+        None => {
+            for s in scales.iter_mut().skip(rates.start).take(rates.len()) {
                 *s = omega;
             }
         }

@@ -17,7 +17,7 @@
 //! formulations implement with their contact kinematics alone (no acceleration solve for the
 //! DAE). A model without clearance joints does no work at all (the hook returns at once).
 
-use crate::formulation::{Dae, FormulationError, ReducedLagrangian};
+use crate::formulation::{Dae, FormulationError, Generalized, ReducedLagrangian};
 use crate::solve::{DenseStep, SolveError};
 use serde::Serialize;
 
@@ -69,6 +69,14 @@ impl ContactProbe for Dae {
             normal_force: s.forces.normal_force,
             impact_velocity: stored,
         })
+    }
+}
+
+impl ContactProbe for Generalized {
+    /// The DAE's probe at the state projected onto the constraints.
+    fn contact_probe(&self, k: usize, t: f64, y: &[f64]) -> Result<ContactPoint, FormulationError> {
+        let projected = self.project(t, y)?;
+        self.dae().contact_probe(k, t, &projected)
     }
 }
 

@@ -45,7 +45,7 @@ pub use summary::{ClearanceSummary, EnergyBalance, FIRST_IMPACTS, RunSummary, Su
 pub use trajectory::{Columns, Trajectory};
 
 use crate::error::{Error, Result};
-use crate::formulation::{Dae, DaeOptions, Formulation, Outputs, ReducedLagrangian};
+use crate::formulation::{Dae, DaeOptions, Formulation, Generalized, Outputs, ReducedLagrangian};
 use crate::model::{JointKind, Model};
 use crate::solve::{self, SolverOptions};
 use sink::Observed;
@@ -56,6 +56,7 @@ use std::time::Instant;
 enum Built {
     Dae(Box<Dae>),
     Reduced(Box<ReducedLagrangian>),
+    Generalized(Box<Generalized>),
 }
 
 /// A model with validated settings, ready to run any number of times. `Send` but not `Sync`
@@ -101,10 +102,18 @@ impl Simulation {
                 ));
             }
             FormulationKind::Reduced => Built::Reduced(Box::new(ReducedLagrangian::new(model)?)),
+            FormulationKind::Generalized => {
+                let dae_options = DaeOptions {
+                    energy: options.energy,
+                    ..DaeOptions::default()
+                };
+                Built::Generalized(Box::new(Generalized::new(model, &dae_options)?))
+            }
         };
         let names = match &formulation {
             Built::Dae(f) => f.output_names(),
             Built::Reduced(f) => f.output_names(),
+            Built::Generalized(f) => f.output_names(),
         };
         check_sampling(t_end, options.dt, names.len())?;
         Ok(Simulation {
@@ -147,6 +156,7 @@ impl Simulation {
         match &self.formulation {
             Built::Dae(f) => f.t0(),
             Built::Reduced(f) => f.t0(),
+            Built::Generalized(f) => f.t0(),
         }
     }
 
@@ -213,6 +223,7 @@ impl Simulation {
         let (stats, step_violation) = match &self.formulation {
             Built::Dae(f) => self.integrate(&mut (**f).clone(), &mut observed)?,
             Built::Reduced(f) => self.integrate(&mut (**f).clone(), &mut observed)?,
+            Built::Generalized(f) => self.integrate(&mut (**f).clone(), &mut observed)?,
         };
         let sink_time = observed.consumer_time;
         let mut summary = observed.summary.finish(

@@ -9,7 +9,7 @@ use serde::Serialize;
 /// Which equations of motion to integrate.
 ///
 /// Names (for [`FromStr`](std::str::FromStr), [`Display`](std::fmt::Display) and serde):
-/// `"dae"`, `"reduced"`.
+/// `"dae"`, `"reduced"`, `"generalized"`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum FormulationKind {
@@ -19,11 +19,19 @@ pub enum FormulationKind {
     /// The reduced Lagrangian model of the four-bar with one clearance joint (Farahan et al.
     /// 2016): [`ReducedLagrangian`](crate::formulation::ReducedLagrangian).
     Reduced,
+    /// Generalised coordinates by coordinate partitioning (any model): independent coordinates
+    /// integrated, dependent ones recovered by Newton at every stage, no constraint drift:
+    /// [`Generalized`](crate::formulation::Generalized).
+    Generalized,
 }
 
 impl FormulationKind {
     /// All kinds, in a fixed order.
-    pub const ALL: [FormulationKind; 2] = [FormulationKind::Dae, FormulationKind::Reduced];
+    pub const ALL: [FormulationKind; 3] = [
+        FormulationKind::Dae,
+        FormulationKind::Reduced,
+        FormulationKind::Generalized,
+    ];
 
     /// Name as accepted by [`FromStr`](std::str::FromStr).
     #[must_use]
@@ -31,6 +39,7 @@ impl FormulationKind {
         match self {
             FormulationKind::Dae => "dae",
             FormulationKind::Reduced => "reduced",
+            FormulationKind::Generalized => "generalized",
         }
     }
 }
@@ -44,7 +53,7 @@ impl std::fmt::Display for FormulationKind {
 impl std::str::FromStr for FormulationKind {
     type Err = Error;
 
-    /// Parses `"dae"` or `"reduced"` (ASCII case ignored).
+    /// Parses `"dae"`, `"reduced"` or `"generalized"` (ASCII case ignored).
     fn from_str(s: &str) -> Result<Self, Error> {
         FormulationKind::ALL
             .into_iter()
@@ -52,7 +61,7 @@ impl std::str::FromStr for FormulationKind {
             .ok_or_else(|| {
                 Error::settings(
                     "formulation",
-                    format!("expected \"dae\" or \"reduced\", got \"{s}\""),
+                    format!("expected \"dae\", \"reduced\" or \"generalized\", got \"{s}\""),
                 )
             })
     }
@@ -86,7 +95,7 @@ pub enum EndTime {
 pub struct SimulationOptions {
     /// Equations of motion.
     pub formulation: FormulationKind,
-    /// Integrate the energy bookkeeping too (DAE only): adds the `energy.*` columns and the
+    /// Integrate the energy bookkeeping too (DAE and generalized only): adds the `energy.*` columns and the
     /// work–energy balance of the summary.
     pub energy: bool,
     /// How long to integrate.
@@ -276,7 +285,7 @@ mod tests {
         }
         assert_eq!(
             message("lagrange".parse::<FormulationKind>()),
-            "formulation: expected \"dae\" or \"reduced\", got \"lagrange\""
+            "formulation: expected \"dae\", \"reduced\" or \"generalized\", got \"lagrange\""
         );
     }
 

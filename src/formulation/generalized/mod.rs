@@ -1,0 +1,791 @@
+//! Generalised coordinates by coordinate partitioning, for any model (`--formulation
+//! generalized`).
+//!
+//! The absolute coordinates q (x, y, φ per body) are split into *independent* ones q_I, as many
+//! as the linkage has degrees of freedom (clearance joints add freedom, not constraints), and
+//! *dependent* ones q_D, one per active constraint row (ref. 1). Only q_I and q̇_I carry the
+//! motion: at every evaluation, from (q_I, q̇_I),
+//!
+//! ```text
+//!     positions:      Φ(q_D, q_I, t) = 0            Newton, Φ_qD Δq_D = −Φ, from the stored q_D
+//!     velocities:     Φ_qD q̇_D = −Φ_qI q̇_I − Φ_t    one linear solve with the same LU
+//!     accelerations:  (Bᵀ M B) q̈_I = Bᵀ (Q − M c),   q̈_D = B_D q̈_I + c_D
+//! ```
+//!
+//! with the velocity transformation q̇ = B q̇_I, B_I = I, B_D = −Φ_qD⁻¹ Φ_qI, and
+//! c_D = Φ_qD⁻¹ γ (the Maggi / velocity-transformation form of the equations of motion, ref. 3
+//! §6.5). The constraints hold to Newton's tolerance at every stage, output and event: there is
+//! no constraint drift by construction and no Baumgarte term. The reduced mass matrix Bᵀ M B is
+//! SPD whatever the rank of Φ_q, and B and c only use Φ_qD⁻¹, whose condition grows like 1/s at
+//! a distance s from a singular position (against 1/s² for the DAE's Φ_q M⁻¹ Φ_qᵀ): along the
+//! branch the motion is on, B and c stay bounded and smooth through the singular position, so
+//! the step size does not collapse there. Joint reactions (outputs only) come from the DAE's
+//! multiplier solve at the projected state (Baumgarte off); at a singular position they are not
+//! unique and that solve fails (docs/formulations.md).
+//!
+//! **State.** y = (z, ż, the DAE's state (q, q̇, stored impact velocities, energy integrals),
+//! the partition flags): z holds the f independent coordinates in the order of q, ż their
+//! rates; the error norm covers z and ż only. The DAE's q and q̇ in y are bookkeeping: they are
+//! integrated with the exact derivatives (q̇, q̈) of the projected state and are the warm start
+//! of Newton for the dependent coordinates (within a local error of the solution, so one or two
+//! iterations suffice and Newton stays on the branch the motion is on), never the result; their
+//! independent entries are overwritten by z. The flags (1 = independent, 0 = dependent, one
+//! per coordinate) hold the partition, a discrete state, in y like the stored impact velocities
+//! (`contacts.rs`): the equations stay a pure function of (t, y). Keeping the dependent entries
+//! out of the error norm matters near a singular position, where their rates are 0/0 limits
+//! computed to a relative accuracy of ε/s only.
+//!
+//! **Partition and repartitioning.** Independent coordinates are those *not* chosen as pivot
+//! columns by Gaussian elimination with complete pivoting of the scaled Jacobian
+//! Φ̃_q = W Φ_q S⁻¹ (angles measured as arc lengths L·φ and angle rows as L·Φ, L the linkage's
+//! length scale, so that metres and radians compete fairly). Its pivot ratio ρ = |u_mm|/|u_11|
+//! estimates 1/cond of the dependent block Φ̃_qD. One event function,
+//!
+//! ```text
+//!     g_rep(t, y) = ρ(current dependent block) − τ ρ(best dependent block),   τ = 0.1
+//! ```
+//!
+//! falls through zero when the current block has become ten times worse conditioned than the
+//! best available one. The event is located like an impact, the state is projected, the new
+//! partition written into y, and the integrator restarts there: the switch happens at one
+//! located instant and no step straddles two partitions. After the switch g_rep = (1 − τ)ρ > 0,
+//! so the factor 10 is also the hysteresis that keeps it from switching back and forth. Near a
+//! position where Φ_q itself loses rank (a parallelogram passing its flat position) every
+//! block is poor and g_rep stays positive: no repartition helps there, and none is made;
+//! Newton then works from the predictor on a block whose smallest pivot shrinks with the
+//! distance to the singular position, which keeps it on the branch the predictor is on.
+//!
+//! **Events.** Clearance joints first (index k = joint k's δ, exactly as the DAE), then the
+//! repartition event (index = number of clearance joints).
+//!
+//! # References
+//! 1. R. A. Wehage, E. J. Haug, Generalized coordinate partitioning for dimension reduction in
+//!    analysis of constrained dynamic systems, *Journal of Mechanical Design* 104 (1982)
+//!    247–255.
+//! 2. E. J. Haug, *Computer-Aided Kinematics and Dynamics of Mechanical Systems*, vol. 1,
+//!    Allyn and Bacon, 1989, §6.3 (Newton with a fixed partition, repartitioning).
+//! 3. J. García de Jalón, E. Bayo, *Kinematic and Dynamic Simulation of Multibody Systems: the
+//!    Real-Time Challenge*, Springer, 1994, §6.5 (velocity transformations, Maggi's equations).
+
+pub mod lu;
+
+use super::contacts::ContactSites;
+use super::dae::{Dae, DaeOptions};
+use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
+use crate::mechanics::AppliedForces;
+use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
+use crate::model::{Baumgarte, Model};
+use std::cell::RefCell;
+
+/// Repartition when the current dependent block's pivot ratio falls below this fraction of
+/// the best block's (see the module documentation).
+pub const REPARTITION_FACTOR: f64 = 0.1;
+
+/// Newton stops when every scaled residual |W Φ| is below this fraction of the length scale L
+/// (1e-12 L: some 5 000 times the round-off of evaluating Φ on a linkage of size L).
+pub const POSITION_TOLERANCE: f64 = 1e-12;
+
+/// Most Newton iterations per projection. From a predictor within a local error of the
+/// solution Newton needs one or two; more means the step was too large (the projection fails
+/// recoverably and the integrator retries with a smaller step).
+pub const MAX_NEWTON: usize = 8;
+
+/// Buffers reused by every projection.
+#[derive(Debug, Clone)]
+struct Work {
+    sin_cos: Vec<(f64, f64)>,
+    eval: ConstraintEval,
+    /// Dependent block Φ_qD (m × m, row-major), then its LU factors.
+    block: Vec<f64>,
+    piv: Vec<usize>,
+    rhs: Vec<f64>,
+    /// Coordinate index of dependent column j.
+    dep: Vec<usize>,
+    /// Dependent column of each coordinate (usize::MAX = independent).
+    col_of: Vec<usize>,
+    /// Scaled full Jacobian (m × n) for the partition choice.
+    full: Vec<f64>,
+    cols: Vec<usize>,
+    col_perm: Vec<usize>,
+    /// The projected DAE state and its derivative.
+    y: Vec<f64>,
+    dy: Vec<f64>,
+    /// Independent coordinates.
+    indep: Vec<usize>,
+    /// B_D (m × f, row-major): −Φ_qD⁻¹ Φ_qI.
+    b_dep: Vec<f64>,
+    /// c_D = Φ_qD⁻¹ γ (m).
+    c_dep: Vec<f64>,
+    /// Generalised forces Q (n).
+    forces: Vec<f64>,
+    /// Reduced mass matrix Bᵀ M B (f × f) and its right-hand side.
+    reduced: Vec<f64>,
+    reduced_piv: Vec<usize>,
+    reduced_rhs: Vec<f64>,
+    /// Largest |Φ| (m or rad) left by the last projection.
+    residual: f64,
+}
+
+/// The coordinate-partitioning formulation of a model (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct Generalized {
+    /// The DAE without Baumgarte: forces, contacts, multiplier solve and outputs.
+    dae: Dae,
+    constraints: ConstraintSet,
+    /// Active rows (the DAE's, redundant rows at t = 0 left out).
+    active: Vec<usize>,
+    /// L (m): arc-length scale of angles and angle rows.
+    length_scale: f64,
+    /// Row weights W: L for angle rows, 1 for position rows (active rows).
+    row_weight: Vec<f64>,
+    /// Number of the DAE's states (q, q̇, bookkeeping).
+    n_dae: usize,
+    /// f: independent coordinates (degrees of freedom); the DAE's state starts at 2f.
+    n_indep: usize,
+    /// Diagonal of M: m, m, I per body.
+    mass: Vec<f64>,
+    applied: AppliedForces,
+    contacts: ContactSites,
+    /// Energy bookkeeping on: its rates come from the DAE's evaluation at the projected state.
+    energy: bool,
+    /// Largest |Φ| over the accepted step ends (m or rad).
+    max_step_violation: f64,
+    work: RefCell<Work>,
+}
+
+impl Generalized {
+    /// Assembles the model (as the DAE does) and chooses the initial partition.
+    pub fn new(model: &Model, options: &DaeOptions) -> Result<Self, FormulationError> {
+        let dae_options = DaeOptions {
+            baumgarte: Some(Baumgarte {
+                alpha: 0.0,
+                beta: 0.0,
+            }),
+            ..*options
+        };
+        let dae = Dae::new(model, &dae_options)?;
+        let constraints = dae.constraints().clone();
+        let active: Vec<usize> = (0..constraints.n_rows())
+            .filter(|k| !dae.redundant_rows().contains(k))
+            .collect();
+        let length_scale = dae.length_scale();
+        let row_weight = active
+            .iter()
+            .map(|&k| match constraints.sources()[k] {
+                RowSource::Driver(_) | RowSource::PrismaticAngle(_) => length_scale,
+                _ => 1.0,
+            })
+            .collect();
+        let n = dae.n_coordinates();
+        let m = active.len();
+        if m > n {
+            return Err(FormulationError::Unsupported {
+                formulation: "generalized".into(),
+                reason: format!("{m} independent constraint rows on {n} coordinates"),
+            });
+        }
+        let n_dae = dae.n_states();
+        let nb = model.bodies.len();
+        Ok(Generalized {
+            work: RefCell::new(Work {
+                sin_cos: vec![(0.0, 1.0); nb],
+                eval: ConstraintEval::with_rows(constraints.n_rows()),
+                block: vec![0.0; m * m],
+                piv: vec![0; m],
+                rhs: vec![0.0; m],
+                dep: vec![0; m],
+                col_of: vec![usize::MAX; n],
+                full: vec![0.0; m * n],
+                cols: vec![0; m],
+                col_perm: vec![0; n],
+                y: vec![0.0; n_dae],
+                dy: vec![0.0; n_dae],
+                indep: vec![0; n - m],
+                b_dep: vec![0.0; m * (n - m)],
+                c_dep: vec![0.0; m],
+                forces: vec![0.0; n],
+                reduced: vec![0.0; (n - m) * (n - m)],
+                reduced_piv: vec![0; n - m],
+                reduced_rhs: vec![0.0; n - m],
+                residual: 0.0,
+            }),
+            dae,
+            constraints,
+            active,
+            length_scale,
+            row_weight,
+            n_dae,
+            n_indep: n - m,
+            mass: model
+                .bodies
+                .iter()
+                .flat_map(|b| [b.mass, b.mass, b.inertia])
+                .collect(),
+            applied: AppliedForces::from_model(model),
+            contacts: ContactSites::from_model(model),
+            energy: options.energy,
+            max_step_violation: 0.0,
+        })
+    }
+
+    /// The underlying DAE (Baumgarte off), whose outputs and contact laws this formulation uses.
+    pub fn dae(&self) -> &Dae {
+        &self.dae
+    }
+
+    /// Number of coordinates (3 per body).
+    pub fn n_coordinates(&self) -> usize {
+        self.dae.n_coordinates()
+    }
+
+    /// Degrees of freedom: coordinates − active constraint rows.
+    pub fn dof(&self) -> usize {
+        self.n_coordinates() - self.active.len()
+    }
+
+    /// Index of the repartition event (after the clearance joints' δ events).
+    pub fn repartition_event(&self) -> usize {
+        self.dae.n_clearance_joints()
+    }
+
+    /// The independent coordinates of the partition stored in `y` (indices into q).
+    pub fn independent(&self, y: &[f64]) -> Vec<usize> {
+        let n = self.n_coordinates();
+        (0..n)
+            .filter(|&i| y[self.flags_start() + i] != 0.0)
+            .collect()
+    }
+
+    /// Index in y of the DAE's state.
+    fn dae_start(&self) -> usize {
+        2 * self.n_indep
+    }
+
+    /// Index in y of the partition flags.
+    fn flags_start(&self) -> usize {
+        2 * self.n_indep + self.n_dae
+    }
+
+    /// Writes the DAE state in `work.y` back into y: its z, ż and the bookkeeping copy.
+    fn store(&self, work: &Work, y: &mut [f64]) {
+        let (f, n) = (self.n_indep, self.n_coordinates());
+        for (k, &c) in work.indep.iter().enumerate() {
+            y[k] = work.y[c];
+            y[f + k] = work.y[n + c];
+        }
+        let start = self.dae_start();
+        y[start..start + self.n_dae].copy_from_slice(&work.y);
+    }
+
+    /// The DAE state (q, q̇, bookkeeping) of `y` projected onto the constraints with the
+    /// partition stored in `y`. Fails where Newton does not converge.
+    pub fn project(&self, t: f64, y: &[f64]) -> Result<Vec<f64>, FormulationError> {
+        let mut work = self.work.borrow_mut();
+        self.project_into(t, y, &mut work)?;
+        Ok(work.y.clone())
+    }
+
+    /// Scaled Jacobian entry of active row i for coordinate c: W_i ∂Φ/∂q_c / S_c.
+    fn column_scale(&self, c: usize) -> f64 {
+        if c % 3 == 2 {
+            1.0 / self.length_scale
+        } else {
+            1.0
+        }
+    }
+
+    /// Largest scaled residual |W Φ| over the active rows (NaN-aware: NaN counts as ∞).
+    fn scaled_residual(&self, work: &Work) -> (f64, usize) {
+        let mut worst = (0.0_f64, 0);
+        for (i, &k) in self.active.iter().enumerate() {
+            let r = (self.row_weight[i] * work.eval.phi[k]).abs();
+            let r = if r.is_nan() { f64::INFINITY } else { r };
+            if r > worst.0 {
+                worst = (r, i);
+            }
+        }
+        worst
+    }
+
+    /// Fills `work.block` with Φ_qD (unscaled) at the last evaluation.
+    fn fill_block(&self, work: &mut Work) {
+        let m = self.active.len();
+        work.block.fill(0.0);
+        for (i, &k) in self.active.iter().enumerate() {
+            let row = work.eval.rows[k];
+            for (body, jac) in [(row.body_a, row.jac_a), (row.body_b, row.jac_b)] {
+                let Some(b) = body else { continue };
+                for (c, value) in jac.iter().enumerate() {
+                    let j = work.col_of[3 * b + c];
+                    if j != usize::MAX {
+                        work.block[i * m + j] += value;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Projects y onto the constraints into `work.y` (see the module documentation).
+    fn project_into(&self, t: f64, y: &[f64], work: &mut Work) -> Result<(), FormulationError> {
+        let n = self.n_coordinates();
+        let m = self.active.len();
+        let (f, start, flags) = (self.n_indep, self.dae_start(), self.flags_start());
+        work.y.copy_from_slice(&y[start..start + self.n_dae]);
+        // The partition from the flags.
+        let mut j = 0;
+        let mut k = 0;
+        for c in 0..n {
+            if y[flags + c] == 0.0 {
+                if j == m {
+                    return Err(self.bad_partition(m + 1));
+                }
+                work.dep[j] = c;
+                work.col_of[c] = j;
+                j += 1;
+            } else {
+                work.col_of[c] = usize::MAX;
+                if k < n - m {
+                    work.indep[k] = c;
+                }
+                k += 1;
+            }
+        }
+        if j != m {
+            return Err(self.bad_partition(j));
+        }
+        // The independent coordinates and rates are z and ż.
+        for (kk, &c) in work.indep.iter().enumerate() {
+            work.y[c] = y[kk];
+            work.y[n + c] = y[f + kk];
+        }
+        if m == 0 {
+            work.residual = 0.0;
+            return Ok(());
+        }
+        let tolerance = POSITION_TOLERANCE * self.length_scale;
+        let mut iterations = 0;
+        // Newton on the dependent positions, from the stored (predicted) ones.
+        loop {
+            self.evaluate_at_projection(t, work);
+            let (residual, worst) = self.scaled_residual(work);
+            self.fill_block(work);
+            let factored = lu::factor(&mut work.block, m, &mut work.piv);
+            if residual <= tolerance {
+                if let Err(pivot) = factored {
+                    return Err(self.singular(t, pivot));
+                }
+                break;
+            }
+            if iterations == MAX_NEWTON || factored.is_err() {
+                return Err(FormulationError::ProjectionFailed {
+                    t,
+                    constraint: self
+                        .constraints
+                        .row_name(self.dae.model(), self.active[worst]),
+                    residual: residual / self.row_weight.get(worst).copied().unwrap_or(1.0),
+                    iterations,
+                });
+            }
+            iterations += 1;
+            for (i, &k) in self.active.iter().enumerate() {
+                work.rhs[i] = work.eval.phi[k];
+            }
+            lu::solve(&work.block, m, &work.piv, &mut work.rhs);
+            for (jj, &c) in work.dep.iter().enumerate() {
+                work.y[c] -= work.rhs[jj];
+            }
+        }
+        // Velocities: Φ_qD q̇_D = −(Φ_qI q̇_I + Φ_t).
+        for &c in &work.dep {
+            work.y[n + c] = 0.0;
+        }
+        for (i, &k) in self.active.iter().enumerate() {
+            let v = &work.y[n..2 * n];
+            work.rhs[i] = -(work.eval.rows[k].dot_velocity(v) + work.eval.phi_t[k]);
+        }
+        lu::solve(&work.block, m, &work.piv, &mut work.rhs);
+        for (jj, &c) in work.dep.iter().enumerate() {
+            work.y[n + c] = work.rhs[jj];
+        }
+        work.residual = self
+            .active
+            .iter()
+            .fold(0.0_f64, |r, &k| r.max(work.eval.phi[k].abs()));
+        Ok(())
+    }
+
+    /// Evaluates the constraint rows at the positions and velocities in `work.y`.
+    fn evaluate_at_projection(&self, t: f64, work: &mut Work) {
+        let n = self.n_coordinates();
+        for (i, sc) in work.sin_cos.iter_mut().enumerate() {
+            *sc = work.y[3 * i + 2].sin_cos();
+        }
+        let (q, rest) = work.y.split_at(n);
+        self.constraints
+            .evaluate_into(t, q, &rest[..n], &work.sin_cos, &mut work.eval);
+    }
+
+    /// q̈ at the projected state in `work` (Maggi form, see the module documentation), with the
+    /// LU factors of Φ_qD from the projection.
+    fn accelerations_into(
+        &self,
+        t: f64,
+        work: &mut Work,
+        acc: &mut [f64],
+    ) -> Result<(), FormulationError> {
+        let n = self.n_coordinates();
+        let m = self.active.len();
+        let f = n - m;
+        // γ at the projected velocities (the last evaluation used the predicted ones).
+        self.evaluate_at_projection(t, work);
+        let (q, rest) = work.y.split_at(n);
+        let (v, stored) = rest.split_at(n);
+        self.applied
+            .evaluate_into(q, v, &work.sin_cos, &mut work.forces);
+        if !self.contacts.is_empty() {
+            self.contacts.add_forces_into(
+                t,
+                q,
+                v,
+                &work.sin_cos,
+                &stored[..self.contacts.len()],
+                &mut work.forces,
+                false,
+                |j| self.dae.model().joint(j).name.clone(),
+            )?;
+        }
+        // B_D column by column: Φ_qD b = −Φ_q e_k for each independent coordinate k.
+        for (kk, &c) in work.indep.iter().enumerate() {
+            work.rhs.fill(0.0);
+            let (body, comp) = (c / 3, c % 3);
+            for (i, &row) in self.active.iter().enumerate() {
+                let r = &work.eval.rows[row];
+                if r.body_a == Some(body) {
+                    work.rhs[i] -= r.jac_a[comp];
+                }
+                if r.body_b == Some(body) {
+                    work.rhs[i] -= r.jac_b[comp];
+                }
+            }
+            lu::solve(&work.block, m, &work.piv, &mut work.rhs);
+            for i in 0..m {
+                work.b_dep[i * f + kk] = work.rhs[i];
+            }
+        }
+        for (i, &row) in self.active.iter().enumerate() {
+            work.c_dep[i] = work.eval.gamma[row];
+        }
+        lu::solve(&work.block, m, &work.piv, &mut work.c_dep);
+        // Bᵀ M B and Bᵀ (Q − M c).
+        work.reduced.fill(0.0);
+        for (kk, &c) in work.indep.iter().enumerate() {
+            work.reduced[kk * f + kk] = self.mass[c];
+            work.reduced_rhs[kk] = work.forces[c];
+        }
+        for (i, &c) in work.dep.iter().enumerate() {
+            let mass = self.mass[c];
+            let load = work.forces[c] - mass * work.c_dep[i];
+            let row = &work.b_dep[i * f..i * f + f];
+            for a in 0..f {
+                work.reduced_rhs[a] += row[a] * load;
+                for b in 0..f {
+                    work.reduced[a * f + b] += row[a] * mass * row[b];
+                }
+            }
+        }
+        if let Err(k) = lu::factor(&mut work.reduced, f, &mut work.reduced_piv) {
+            return Err(FormulationError::NonFinite {
+                t,
+                body: self.dae.model().bodies[work.indep[k] / 3].name.clone(),
+                what: "reduced mass matrix".into(),
+            });
+        }
+        lu::solve(&work.reduced, f, &work.reduced_piv, &mut work.reduced_rhs);
+        for (kk, &c) in work.indep.iter().enumerate() {
+            acc[c] = work.reduced_rhs[kk];
+        }
+        for (i, &c) in work.dep.iter().enumerate() {
+            let row = &work.b_dep[i * f..i * f + f];
+            acc[c] = work.c_dep[i]
+                + row
+                    .iter()
+                    .zip(&work.reduced_rhs)
+                    .map(|(b, a)| b * a)
+                    .sum::<f64>();
+        }
+        for (i, body) in self.dae.model().bodies.iter().enumerate() {
+            if !acc[3 * i..3 * i + 3].iter().all(|x| x.is_finite()) {
+                return Err(FormulationError::NonFinite {
+                    t,
+                    body: body.name.clone(),
+                    what: "acceleration".into(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn bad_partition(&self, dependent: usize) -> FormulationError {
+        FormulationError::Unsupported {
+            formulation: "generalized".into(),
+            reason: format!(
+                "the partition in the state has {dependent} dependent coordinates, the model {} constraint rows (a state not made by this formulation)",
+                self.active.len()
+            ),
+        }
+    }
+
+    fn singular(&self, t: f64, pivot: usize) -> FormulationError {
+        FormulationError::SingularConstraints {
+            t,
+            constraint: self.constraints.row_name(
+                self.dae.model(),
+                self.active[pivot.min(self.active.len() - 1)],
+            ),
+        }
+    }
+
+    /// Pivot ratio of the current dependent block and of the best block, at the constraint
+    /// evaluation in `work`.
+    fn partition_quality(&self, work: &mut Work) -> (f64, f64) {
+        let n = self.n_coordinates();
+        let m = self.active.len();
+        if m == 0 {
+            return (1.0, 1.0);
+        }
+        self.fill_full(work);
+        let best = lu::complete_pivoting(&mut work.full, m, n, &mut work.cols, &mut work.col_perm);
+        // The current block, scaled, in the first m columns of `full` (as an m × m matrix).
+        work.full[..m * m].fill(0.0);
+        for (i, &k) in self.active.iter().enumerate() {
+            let row = work.eval.rows[k];
+            for (body, jac) in [(row.body_a, row.jac_a), (row.body_b, row.jac_b)] {
+                let Some(b) = body else { continue };
+                for (c, value) in jac.iter().enumerate() {
+                    let j = work.col_of[3 * b + c];
+                    if j != usize::MAX {
+                        work.full[i * m + j] +=
+                            self.row_weight[i] * value * self.column_scale(3 * b + c);
+                    }
+                }
+            }
+        }
+        let current = lu::complete_pivoting(
+            &mut work.full[..m * m],
+            m,
+            m,
+            &mut work.cols,
+            &mut work.col_perm,
+        );
+        (current.ratio, best.ratio)
+    }
+
+    /// The scaled full Jacobian W Φ_q S⁻¹ of the active rows into `work.full` (m × n).
+    fn fill_full(&self, work: &mut Work) {
+        let n = self.n_coordinates();
+        work.full.fill(0.0);
+        for (i, &k) in self.active.iter().enumerate() {
+            let row = work.eval.rows[k];
+            for (body, jac) in [(row.body_a, row.jac_a), (row.body_b, row.jac_b)] {
+                let Some(b) = body else { continue };
+                for (c, value) in jac.iter().enumerate() {
+                    work.full[i * n + 3 * b + c] +=
+                        self.row_weight[i] * value * self.column_scale(3 * b + c);
+                }
+            }
+        }
+    }
+
+    /// Writes the best partition at the constraint evaluation in `work` into `flags`
+    /// (1 = independent).
+    fn best_partition(&self, work: &mut Work, flags: &mut [f64]) {
+        let n = self.n_coordinates();
+        let m = self.active.len();
+        flags.fill(1.0);
+        if m == 0 {
+            return;
+        }
+        self.fill_full(work);
+        lu::complete_pivoting(&mut work.full, m, n, &mut work.cols, &mut work.col_perm);
+        for &c in &work.cols[..m] {
+            flags[c] = 0.0;
+        }
+    }
+}
+
+impl Formulation for Generalized {
+    /// z and ż (f each), the DAE's states (q, q̇, stored impact velocities, energy integrals)
+    /// and one partition flag per coordinate.
+    fn n_states(&self) -> usize {
+        self.flags_start() + self.n_coordinates()
+    }
+
+    fn initial_state(&self) -> Vec<f64> {
+        let n = self.n_coordinates();
+        let dae_state = self.dae.initial_state();
+        let mut y = vec![0.0; self.n_states()];
+        let (start, flags) = (self.dae_start(), self.flags_start());
+        y[start..start + self.n_dae].copy_from_slice(&dae_state);
+        let mut work = self.work.borrow_mut();
+        work.y.copy_from_slice(&dae_state);
+        self.evaluate_at_projection(self.dae.t0(), &mut work);
+        self.best_partition(&mut work, &mut y[flags..flags + n]);
+        let mut k = 0;
+        for c in 0..n {
+            if y[flags + c] != 0.0 && k < self.n_indep {
+                y[k] = dae_state[c];
+                y[self.n_indep + k] = dae_state[n + c];
+                k += 1;
+            }
+        }
+        y
+    }
+
+    fn t0(&self) -> f64 {
+        self.dae.t0()
+    }
+
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
+        let mut work = self.work.borrow_mut();
+        self.project_into(t, y, &mut work)?;
+        let (f, n) = (self.n_indep, self.n_coordinates());
+        let start = self.dae_start();
+        let (head, rest) = dy.split_at_mut(start);
+        let (dae_dy, flags_dy) = rest.split_at_mut(self.n_dae);
+        flags_dy.fill(0.0);
+        if self.energy {
+            // Only for the energy integrals' rates (q̇ and q̈ are overwritten below).
+            let Work { y: yp, dy: dyp, .. } = &mut *work;
+            self.dae.rhs(t, yp, dyp)?;
+            dae_dy.copy_from_slice(dyp);
+        } else {
+            dae_dy[2 * n..].fill(0.0);
+        }
+        dae_dy[..n].copy_from_slice(&work.y[n..2 * n]);
+        self.accelerations_into(t, &mut work, &mut dae_dy[n..2 * n])?;
+        for (k, &c) in work.indep.iter().enumerate() {
+            head[k] = dae_dy[c];
+            head[f + k] = dae_dy[n + c];
+        }
+        Ok(())
+    }
+
+    /// z and ż are controlled; the DAE's copy of q and q̇ (Newton's warm start), its
+    /// bookkeeping states and the partition flags are not.
+    fn error_controlled(&self, controlled: &mut [bool]) {
+        let (z, rest) = controlled.split_at_mut(self.dae_start());
+        z.fill(true);
+        rest.fill(false);
+    }
+
+    fn n_events(&self) -> usize {
+        self.dae.n_events() + 1
+    }
+
+    fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
+        let nc = self.dae.n_events();
+        let mut work = self.work.borrow_mut();
+        if self.project_into(t, y, &mut work).is_err() {
+            // A failed projection is reported by the integrator's own rhs call; keep the
+            // event functions defined (unprojected) meanwhile.
+            let start = self.dae_start();
+            work.y.copy_from_slice(&y[start..start + self.n_dae]);
+            self.evaluate_at_projection(t, &mut work);
+        }
+        self.dae.events(t, &work.y, &mut g[..nc]);
+        let (current, best) = self.partition_quality(&mut work);
+        g[nc] = current - REPARTITION_FACTOR * best;
+    }
+
+    /// A clearance joint's event as in the DAE, at the projected state; the repartition event
+    /// (falling g_rep) writes the best partition into y and restarts.
+    fn apply_event(
+        &mut self,
+        t: f64,
+        y: &mut [f64],
+        index: usize,
+        crossing: Crossing,
+    ) -> EventResponse {
+        let nc = self.dae.n_events();
+        let (n, f) = (self.n_coordinates(), self.n_indep);
+        let (start, flags_at) = (self.dae_start(), self.flags_start());
+        let mut w = self.work.borrow_mut();
+        if self.project_into(t, y, &mut w).is_ok() {
+            self.store(&w, y);
+        }
+        if index < nc {
+            drop(w);
+            let response =
+                self.dae
+                    .apply_event(t, &mut y[start..start + self.n_dae], index, crossing);
+            return response;
+        }
+        if crossing != Crossing::Falling {
+            return EventResponse::Continue;
+        }
+        w.y.copy_from_slice(&y[start..start + self.n_dae]);
+        self.evaluate_at_projection(t, &mut w);
+        let mut flags = vec![0.0; n];
+        self.best_partition(&mut w, &mut flags);
+        if flags[..] == y[flags_at..flags_at + n] {
+            return EventResponse::Continue;
+        }
+        y[flags_at..flags_at + n].copy_from_slice(&flags);
+        let mut k = 0;
+        for (c, &flag) in flags.iter().enumerate() {
+            if flag != 0.0 && k < f {
+                y[k] = w.y[c];
+                y[f + k] = w.y[n + c];
+                k += 1;
+            }
+        }
+        EventResponse::Restart
+    }
+
+    /// Keeps the largest |Φ| left by the projection of the step ends (Newton's tolerance:
+    /// the formulation has no drift to bound).
+    fn accept_step(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        _rtol: f64,
+        _atol: f64,
+    ) -> Result<(), FormulationError> {
+        let mut work = self.work.borrow_mut();
+        self.project_into(t, y, &mut work)?;
+        let residual = work.residual;
+        drop(work);
+        self.max_step_violation = self.max_step_violation.max(residual);
+        Ok(())
+    }
+
+    /// The DAE's grazing guard at the projected state.
+    fn max_step(&self, t: f64, y: &[f64]) -> f64 {
+        if self.dae.n_events() == 0 {
+            return f64::INFINITY;
+        }
+        let mut work = self.work.borrow_mut();
+        if self.project_into(t, y, &mut work).is_err() {
+            return f64::INFINITY;
+        }
+        self.dae.max_step(t, &work.y)
+    }
+}
+
+impl Outputs for Generalized {
+    /// The DAE's columns ([`Dae`]'s `output_names`).
+    fn output_names(&self) -> Vec<String> {
+        self.dae.output_names()
+    }
+
+    /// The DAE's outputs at the projected state (reactions from the multipliers without
+    /// Baumgarte terms); returns the |Φ| left by the projection.
+    fn outputs_into(&self, t: f64, y: &[f64], out: &mut Vec<f64>) -> Result<f64, FormulationError> {
+        let projected = self.project(t, y)?;
+        self.dae.outputs_into(t, &projected, out)
+    }
+
+    fn step_constraint_violation(&self) -> f64 {
+        self.max_step_violation
+    }
+}
