@@ -69,6 +69,9 @@ pub struct WorkPrecisionArgs {
     /// Override a model field (repeatable), e.g. `--set drivers.motor.speed_rpm=3500`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// Run this clearance joint as an ideal revolute joint (repeatable).
+    #[arg(long, value_name = "JOINT")]
+    ideal: Vec<String>,
     /// Output directory (created if missing) for workprecision.csv, .md, .png and .svg.
     #[arg(long)]
     out: PathBuf,
@@ -125,7 +128,7 @@ fn short(v: Option<f64>) -> String {
 
 /// Runs `workprecision`.
 pub fn run(args: &WorkPrecisionArgs) -> Result<(), Failure> {
-    let model = super::load_model(&args.model, &args.set)?;
+    let model = super::load_model(&args.model, &args.set, &args.ideal)?;
     let options = options(args)?;
     options.validate()?;
     if args.out.exists() && !args.out.is_dir() {

@@ -441,7 +441,7 @@ impl Generalized {
         let (q, rest) = work.y.split_at(n);
         let (v, stored) = rest.split_at(n);
         self.applied
-            .evaluate_into(q, v, &work.sin_cos, &mut work.forces);
+            .evaluate_into(t, q, v, &work.sin_cos, &mut work.forces);
         if !self.contacts.is_empty() {
             self.contacts.add_forces_into(
                 t,
