@@ -38,6 +38,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod analysis;
+pub mod animate;
 pub mod contact;
 pub mod error;
 pub mod formulation;

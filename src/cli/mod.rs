@@ -5,6 +5,7 @@
 //! when and why); 4 a result file could not be written; 130 interrupted (SIGINT, SIGTERM or
 //! SIGHUP during `run`: no result file is left behind).
 
+mod animate;
 mod args;
 mod bifurcation;
 mod check;
@@ -59,6 +60,9 @@ enum Command {
     /// Draw a figure (PNG or SVG) from result CSV files: series, orbit, poincare, bifurcation,
     /// spectrum, phase, lyapunov.
     Plot(plot::PlotArgs),
+    /// Animate a model (run first) or a result file: self-contained HTML player, animated SVG
+    /// or GIF.
+    Animate(animate::AnimateArgs),
     /// Stiff and extreme cases × formulations × methods with a verdict each (ok, slow, failed, refused).
     Stress(stress::StressArgs),
 }
@@ -207,6 +211,7 @@ pub fn main() -> ExitCode {
         Command::Lyapunov(args) => lyapunov::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::Stress(args) => stress::run(&args),
+        Command::Animate(args) => animate::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -16,6 +16,8 @@ use std::collections::HashSet;
 use std::ops::Range;
 use toml::Spanned;
 
+mod shapes;
+
 /// Builds the model, refusing the first problem found.
 pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<Model, ModelError> {
     let b = Builder { loc };
@@ -279,12 +281,14 @@ impl Builder<'_, '_> {
                 vy: opt(&i.vy, "initial vy (m/s)")?,
                 omega: opt(&i.omega, "initial omega (rad/s)")?,
             };
+            let shapes = self.shapes(&b.shapes, &points, &name)?;
             bodies.push(Body {
                 name,
                 mass,
                 inertia,
                 points,
                 initial,
+                shapes,
             });
         }
         Ok(bodies)
