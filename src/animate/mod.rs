@@ -258,12 +258,26 @@ pub fn still(
         return Err(PlotError::Option {
             option: "--time".into(),
             reason: format!(
-                "{t} s is outside the run {} ({t0} to {t1} s)",
-                run.file_name()
+                "{} s is outside the run {} ({} to {} s)",
+                seconds(t),
+                run.file_name(),
+                seconds(t0),
+                seconds(t1)
             ),
         });
     }
     Ok(stage.frame(t).picture)
+}
+
+/// A time for messages: at most 9 decimals, trailing zeros dropped (0.12, not
+/// 0.12000000000000001).
+pub fn seconds(t: f64) -> String {
+    let s = format!("{t:.9}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 /// An animation file format.

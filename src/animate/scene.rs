@@ -219,8 +219,8 @@ fn stadium(a: [f64; 2], b: [f64; 2], w: f64) -> Vec<[f64; 2]> {
 }
 
 /// The mechanism of `model` at `now`: each body as its shapes (filled in the body's colour),
-/// or without shapes as a line through its points (closed when it has three or more); ground
-/// points as grey dots; pins as white dots; each clearance joint's clearance circle (radius c)
+/// or without shapes as a line through its points (closed when it has three or more); then
+/// ground points as grey dots and pins as white dots; each clearance joint's clearance circle (radius c)
 /// around the bearing centre, the journal centre's path and the journal centre itself at
 /// `magnify` times their true offsets; the contact force on each journal as an arrow from the
 /// magnified journal centre, F_J = −F_N n + F_T t (n from bearing to journal centre), at
@@ -232,14 +232,6 @@ pub fn draw(model: &Model, now: &Instant, options: &DrawOptions) -> Scene {
     let poses = &now.poses;
     let mut items = Vec::new();
     let mut legend = Vec::new();
-    for (_, p) in &model.ground_points {
-        items.push(Item::Dot {
-            centre: *p,
-            radius_px: GROUND_DOT_PX,
-            fill: GROUND,
-            outline: None,
-        });
-    }
     for (k, (body, pose)) in model.bodies.iter().zip(poses).enumerate() {
         let colour = body_colour(k);
         legend.push((body.name.clone(), colour));
@@ -265,6 +257,15 @@ pub fn draw(model: &Model, now: &Instant, options: &DrawOptions) -> Scene {
                 outline,
             });
         }
+    }
+    // Ground pivots over the bodies, so that a bar does not hide where it is pinned.
+    for (_, p) in &model.ground_points {
+        items.push(Item::Dot {
+            centre: *p,
+            radius_px: GROUND_DOT_PX,
+            fill: GROUND,
+            outline: None,
+        });
     }
     let mut clearance = Vec::new();
     for (k, j) in model.joints.iter().enumerate() {

@@ -139,9 +139,11 @@ pub fn run(args: &AnimateArgs) -> Result<(), Failure> {
         movie.frames.last().map_or(0.0, |f| f.t),
     );
     eprintln!(
-        "{}: {} frames of t = {t0} to {t1} s, {:.1} s at {:.1} fps (1×)",
+        "{}: {} frames of t = {} to {} s, {:.1} s at {:.1} fps (1×)",
         args.out.display(),
         movie.frames.len(),
+        linkdyn::animate::seconds(t0),
+        linkdyn::animate::seconds(t1),
         movie.duration(),
         movie.fps
     );
