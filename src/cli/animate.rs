@@ -20,9 +20,10 @@ pub struct AnimateArgs {
     /// or `.gif`.
     #[arg(long)]
     out: PathBuf,
-    /// Frames per second of playback (GIF: rounded to a whole number of centiseconds per frame).
-    #[arg(long, default_value_t = 30.0)]
-    fps: f64,
+    /// Frames per second of playback; default 30, for a GIF 20 (a GIF frame lasts a whole
+    /// number of centiseconds: the rate is rounded to fit).
+    #[arg(long)]
+    fps: Option<f64>,
     /// Playback length at 1× (s); default 4 s per driver turn, 2 to 120 s.
     #[arg(long)]
     duration: Option<f64>,
@@ -111,7 +112,7 @@ pub fn run(args: &AnimateArgs) -> Result<(), Failure> {
     // Refuse an unknown format before running anything.
     let format = Format::from_path(&args.out)?;
     let gif = format == Format::Gif;
-    let mut fps = args.fps;
+    let mut fps = args.fps.unwrap_or(if gif { 20.0 } else { 30.0 });
     if gif && fps.is_finite() && fps > 0.0 {
         // A GIF frame lasts a whole number of centiseconds.
         fps = 100.0 / (100.0 / fps).round().max(2.0);
