@@ -8,10 +8,55 @@ use linkdyn::model::Model;
 use linkdyn::plot::Table;
 use linkdyn::simulation::{Simulation, SimulationOptions};
 
-/// models/farahan2016.toml run for `revs` crank turns (250 rpm: 0.24 s a turn), sampled every
-/// millisecond, as the table `linkdyn run` would write (with `t` first).
+/// The bars the animation tests give the Farahan four-bar (after each body's `initial` line):
+/// 30 mm wide, between the body's two points.
+pub const BARS: [(&str, &str); 3] = [
+    (
+        "crank",
+        r#"shapes = [{ type = "bar", from = "O2", to = "A", width = 0.03 }]"#,
+    ),
+    (
+        "coupler",
+        r#"shapes = [{ type = "bar", from = "A", to = "B", width = 0.03 }]"#,
+    ),
+    (
+        "rocker",
+        r#"shapes = [{ type = "bar", from = "O4", to = "B", width = 0.03 }]"#,
+    ),
+];
+
+/// The text of models/farahan2016.toml with `lines[k]` inserted after the `initial` line of
+/// body k (crank, coupler, rocker): line 25 is the crank's.
+pub fn farahan_text_with(lines: [&str; 3]) -> String {
+    let text = match std::fs::read_to_string("models/farahan2016.toml") {
+        Ok(t) => t,
+        Err(e) => panic!("models/farahan2016.toml: {e}"),
+    };
+    let mut out = String::new();
+    let mut k = 0;
+    for line in text.lines() {
+        out.push_str(line);
+        out.push('\n');
+        if line.starts_with("initial = ") {
+            if let Some(extra) = lines.get(k) {
+                out.push_str(extra);
+                out.push('\n');
+            }
+            k += 1;
+        }
+    }
+    assert_eq!(
+        k, 3,
+        "models/farahan2016.toml: {k} `initial` lines, expected 3"
+    );
+    out
+}
+
+/// models/farahan2016.toml with [`BARS`], run for `revs` crank turns (250 rpm: 0.24 s a turn),
+/// sampled every millisecond, as the table `linkdyn run` would write (with `t` first).
 pub fn farahan(revs: f64) -> (Model, Table) {
-    let model = match linkdyn::model::load("models/farahan2016.toml".as_ref(), &[]) {
+    let text = farahan_text_with(BARS.map(|(_, line)| line));
+    let model = match linkdyn::model::load_str(&text, "farahan2016_bars.toml", &[]) {
         Ok(m) => m,
         Err(e) => panic!("{e}"),
     };
