@@ -13,7 +13,8 @@
 //! Underneath: formulations ([`formulation::Dae`] for any model,
 //! [`formulation::ReducedLagrangian`] for the reference four-bar with a clearance joint), the
 //! integrator ([`solve::integrate()`], DOPRI5 or DOP853 with event location), contact and
-//! friction laws ([`contact`]).
+//! friction laws ([`contact`]). Figures: [`plot`]; the mechanism drawn at an instant and
+//! animated (HTML player, animated SVG, GIF): [`animate`].
 //!
 //! ```
 //! use linkdyn::simulation::{Simulation, SimulationOptions};
@@ -38,6 +39,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod analysis;
+pub mod animate;
 pub mod contact;
 pub mod error;
 pub mod formulation;

@@ -251,7 +251,7 @@ const CASES: &[(&str, &str)] = &[
     ),
     (
         "unknown_field",
-        "tests/bad_models/unknown_field.toml:12:1: bodies.crank.colour: unknown field `colour`, expected one of `name`, `mass`, `inertia`, `points`, `initial`",
+        "tests/bad_models/unknown_field.toml:12:1: bodies.crank.colour: unknown field `colour`, expected one of `name`, `mass`, `inertia`, `points`, `initial`, `shapes`",
     ),
     (
         "unknown_joint_type",
@@ -341,7 +341,7 @@ fn bad_set_overrides_are_refused_with_exit_code_2() {
     assert_eq!(code, 2);
     assert_eq!(
         stderr.trim_end(),
-        "error: models/fourbar_ideal.toml: bodies.crank.colour: unknown field `colour`, expected one of `name`, `mass`, `inertia`, `points`, `initial` (value from --set bodies.crank.colour=red)"
+        "error: models/fourbar_ideal.toml: bodies.crank.colour: unknown field `colour`, expected one of `name`, `mass`, `inertia`, `points`, `initial`, `shapes` (value from --set bodies.crank.colour=red)"
     );
 }
 

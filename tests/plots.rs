@@ -256,14 +256,7 @@ fn every_kind_gives_a_png_and_a_well_formed_labelled_svg() {
         &dir,
         "mechanism",
         &["mechanism", &s(&i.run), "--time", "0.05"],
-        &[
-            "x (m)",
-            "y (m)",
-            "crank",
-            "coupler",
-            "rocker",
-            "(clearances × 100)",
-        ],
+        &["t = 0.0500 s", "crank", "coupler", "rocker", "paths × 100"],
     );
     both_formats(
         &dir,

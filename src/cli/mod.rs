@@ -5,6 +5,7 @@
 //! when and why); 4 a result file could not be written; 130 interrupted (SIGINT, SIGTERM or
 //! SIGHUP during `run`: no result file is left behind).
 
+mod animate;
 mod args;
 mod bifurcation;
 mod check;
@@ -64,6 +65,9 @@ enum Command {
     /// The analogues of Figs. 3–7 of Farahan et al. (2016) per friction variant, with a report
     /// judging the paper's claims (DIR/report.md).
     Reproduce(reproduce::ReproduceArgs),
+    /// Animate a model (run first) or a result file: self-contained HTML player, animated SVG
+    /// or GIF.
+    Animate(animate::AnimateArgs),
     /// Stiff and extreme cases × formulations × methods with a verdict each (ok, slow, failed, refused).
     Stress(stress::StressArgs),
     /// Error against run time for every formulation × method × tolerance (CSV, markdown, plot).
@@ -218,6 +222,7 @@ pub fn main() -> ExitCode {
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Stress(args) => stress::run(&args),
         Command::Workprecision(args) => workprecision::run(&args),
+        Command::Animate(args) => animate::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

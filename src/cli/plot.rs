@@ -100,11 +100,11 @@ enum Kind {
         common: Common,
     },
     /// The mechanism at one instant of a run (model from the file's provenance), clearances
-    /// magnified.
+    /// magnified: the frame `linkdyn animate` shows at that time.
     Mechanism {
         /// Result CSV of `linkdyn run` (with the `<body>.x`, `.y`, `.phi` columns).
         file: PathBuf,
-        /// Time (s); the nearest sample is drawn.
+        /// Time (s), interpolated between samples.
         #[arg(long, default_value_t = 0.0)]
         time: f64,
         /// Factor on clearance circles and journal offsets.
@@ -192,16 +192,24 @@ pub fn run(args: &PlotArgs) -> Result<(), Failure> {
             magnify,
             common,
         } => {
+            // A still frame of the animation, drawn by linkdyn::animate rather than plotters.
             let run = read(file)?;
             let (model, _) = figures::model_from_provenance(&run).map_err(|reason| Failure {
                 code: EXIT_BAD_INPUT,
                 message: format!("{}: {reason}", file.display()),
             })?;
-            let row = linkdyn::plot::row_at(&run, *time)?;
-            (
-                linkdyn::plot::mechanism(&model, &run, row, *magnify)?,
-                common,
-            )
+            linkdyn::plot::Format::from_path(&common.out)?;
+            let picture = linkdyn::plot::mechanism(
+                &model,
+                &run,
+                *time,
+                *magnify,
+                common.size,
+                common.title.clone(),
+            )?;
+            linkdyn::animate::write_still(&picture, &common.out)?;
+            eprintln!("{}", common.out.display());
+            return Ok(());
         }
         Kind::Lyapunov { file, common } => (figures::lyapunov(&read(file)?)?, common),
     };

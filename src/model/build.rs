@@ -19,6 +19,8 @@ use std::ops::Range;
 use std::sync::Arc;
 use toml::Spanned;
 
+mod shapes;
+
 /// Builds the model, refusing the first problem found.
 pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<Model, ModelError> {
     let plain = Builder {
@@ -637,12 +639,14 @@ impl Builder<'_, '_> {
                 vy: opt(&i.vy, "initial vy (m/s)")?,
                 omega: opt(&i.omega, "initial omega (rad/s)")?,
             };
+            let shapes = self.shapes(&b.shapes, &points, &name)?;
             bodies.push(Body {
                 name,
                 mass,
                 inertia,
                 points,
                 initial,
+                shapes,
             });
         }
         Ok(bodies)

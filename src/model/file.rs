@@ -203,6 +203,38 @@ pub struct BodyFile {
     pub points: BTreeMap<Name, Vec2>,
     /// Initial guess of the pose (and optionally of the velocity).
     pub initial: Spanned<InitialFile>,
+    /// How the body is drawn (figures and animations only; no effect on the dynamics).
+    #[serde(default)]
+    pub shapes: Vec<Spanned<ShapeFile>>,
+}
+
+/// One drawn shape of a body, in the body frame: `{ type = "bar", from = "A", to = "B",
+/// width = 0.02 }`, `{ type = "polygon", points = ["A", "B", "C"] }` or `{ type = "polygon",
+/// vertices = [[x, y], …] }`, `{ type = "disc", at = "A", radius = 0.01 }` or `{ type = "disc",
+/// centre = [x, y], radius = 0.01 }` (m). One flat struct; [`super::build`] checks the fields of
+/// each type.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShapeFile {
+    /// "bar" | "polygon" | "disc".
+    #[serde(rename = "type")]
+    pub kind: Name,
+    /// Bar: the point at one end.
+    pub from: Option<Name>,
+    /// Bar: the point at the other end.
+    pub to: Option<Name>,
+    /// Bar: width (m).
+    pub width: Option<Num>,
+    /// Polygon: corners given by point names, in order.
+    pub points: Option<Vec<Name>>,
+    /// Polygon: corners given as body-frame coordinates (m), in order.
+    pub vertices: Option<Spanned<Vec<Vec2>>>,
+    /// Disc: centred on this point.
+    pub at: Option<Name>,
+    /// Disc: centre in body-frame coordinates (m).
+    pub centre: Option<Vec2>,
+    /// Disc: radius (m).
+    pub radius: Option<Num>,
 }
 
 /// `initial = { x, y, phi, vx, vy, omega }` of a body.

@@ -61,6 +61,35 @@ pub struct Body {
     pub points: Vec<(String, [f64; 2])>,
     /// Initial guess of pose and velocity; assembly makes it consistent.
     pub initial: BodyState,
+    /// How the body is drawn (empty: lines between its points). No effect on the dynamics.
+    pub shapes: Vec<Shape>,
+}
+
+/// A drawn shape of a body, in the body frame (m). Figures and animations only.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "type")]
+pub enum Shape {
+    /// A bar of width `width` between two points, with round ends.
+    Bar {
+        /// One end.
+        from: [f64; 2],
+        /// The other end.
+        to: [f64; 2],
+        /// Width (m), > 0.
+        width: f64,
+    },
+    /// A filled polygon (three or more corners, in order).
+    Polygon {
+        /// Corners.
+        vertices: Vec<[f64; 2]>,
+    },
+    /// A filled disc.
+    Disc {
+        /// Centre.
+        centre: [f64; 2],
+        /// Radius (m), > 0.
+        radius: f64,
+    },
 }
 
 /// Contact-force law of a clearance joint (see `contact::laws`).
