@@ -1,6 +1,7 @@
 //! The explicit embedded Runge–Kutta pairs as one [`Integrator`]: [`ExplicitRk`] runs any
 //! [`Pair`] (its tableau, error norm and dense output, in `dopri5.rs` and `dop853.rs`) with
-//! Hairer's controller (`control.rs`), FSAL, lazy dense output and Hairer's stiffness test.
+//! Hairer's controller (`control.rs`), FSAL, dense output (DOP853 prepares its extra stages
+//! before accepting a step: [`Pair::DENSE_EVALUATES_RHS`]) and Hairer's stiffness test.
 //!
 //! **Stiffness test** \[1, Sec. IV.2; codes `dopri5.f`, `dop853.f`\]: after each accepted step,
 //! hλ ≈ h‖k_s − k_{s−1}‖/‖y_s − y_{s−1}‖ from the two stages at c = 1 (their arguments y_{s−1}
@@ -46,6 +47,12 @@ pub(crate) trait Pair {
     const LAST_STAGE: usize;
     /// Vectors of the dense output.
     const DENSE_VECTORS: usize;
+    /// Whether [`Pair::prepare_dense`] evaluates the right-hand side (DOP853's extra stages).
+    /// Such a pair prepares its dense output before the step is accepted: an extra stage that
+    /// fails recoverably (a stage deep inside a contact at a loose tolerance) then rejects the
+    /// step and the driver retries it smaller, instead of stopping the run after acceptance.
+    /// Nearly every step is interpolated anyway (events, samples), so this costs ~1 % more calls.
+    const DENSE_EVALUATES_RHS: bool = false;
     /// Controller constants.
     const CONTROL: ControlParams;
     /// Boundary of the stability region on the negative real axis (for the stiffness test).
@@ -266,10 +273,27 @@ impl<F: Formulation + ?Sized, P: Pair> Integrator<F> for ExplicitRk<P> {
             &mut self.k,
             &mut stats.rhs_evals,
         )?;
+        if P::DENSE_EVALUATES_RHS {
+            let step = DenseInput {
+                t_old: trial.t,
+                h,
+                y_old: trial.y,
+                y_new: &self.y_new,
+            };
+            // Scratch, not `y_stage`: the stiffness test below reads the last stage's argument.
+            P::prepare_dense(
+                f,
+                &step,
+                &mut self.k,
+                &mut self.dense,
+                &mut self.scratch.0,
+                stats,
+            )?;
+        }
         self.y_old.copy_from_slice(trial.y);
         self.t_old = trial.t;
         self.h = h;
-        self.dense_ready = false;
+        self.dense_ready = P::DENSE_EVALUATES_RHS;
         if let Some(k_fsal) = self.k.get(P::FSAL) {
             self.f_start.copy_from_slice(k_fsal);
         }

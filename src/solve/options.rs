@@ -101,7 +101,7 @@ impl Method {
                 "Hairer's DOP853 8(5,3), explicit, 12 RHS calls per step, 7th-order dense output; tight tolerances (default)"
             }
             Method::Radau5 => {
-                "Radau IIA order 5 (RADAU5), implicit, L-stable, Newton with a finite-difference Jacobian, cubic dense output; stiff contact phases"
+                "Radau IIA order 5 (RADAU5), implicit, L-stable, Newton with the formulation's Jacobian (analytic for the reduced model), cubic dense output; stiff contact phases"
             }
             #[cfg(feature = "ida")]
             Method::Ida => IDA_DESCRIPTION,

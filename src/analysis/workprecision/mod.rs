@@ -81,8 +81,8 @@ pub struct WorkPrecisionOptions {
 }
 
 impl Default for WorkPrecisionOptions {
-    /// DAE and reduced × DOPRI5, DOP853, Radau5 × rtol 1e-4 … 1e-10 (one per decade), atol =
-    /// 1e-3·rtol, 2 driver turns, 4000 samples, 3 timed runs per cell, 60 s per run, reference
+    /// Every formulation (DAE, reduced, generalized) × every method × rtol 1e-4 … 1e-10 (one per
+    /// decade), atol = 1e-3·rtol, 2 driver turns, 4000 samples, 3 timed runs per cell, 60 s per run, reference
     /// DOP853 confirmed by DOPRI5 at 1e-12.
     fn default() -> Self {
         WorkPrecisionOptions {
