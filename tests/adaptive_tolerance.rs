@@ -141,13 +141,11 @@ fn stats_add_up() -> Result<(), SolveError> {
                     "{case}: {s:?}"
                 );
                 assert_eq!((s.events, s.restarts), (0, 0), "{case}: {s:?}");
-                if method == Method::Dop853 {
-                    // DOP853 prepares its dense output before accepting a step (so that a failing
-                    // extra stage rejects the step): 3 calls for every accepted step.
-                    assert_eq!(s.dense_evals, 3 * s.steps, "{case}: {s:?}");
-                } else {
-                    // DOPRI5's dense output needs no call.
+                if dt_out == T_END || method == Method::Dopri5 {
+                    // The last sample is the step end: nothing to interpolate.
                     assert_eq!(s.dense_evals, 0, "{case}: {s:?}");
+                } else {
+                    assert!(s.dense_evals > 0, "{case}: {s:?}");
                 }
             }
         }
@@ -198,7 +196,7 @@ fn cost_snapshot() -> Result<(), SolveError> {
     // (method, steps, rejected, rhs_evals, dense_evals)
     let snapshot = [
         (Method::Dopri5, 617, 0, 3704, 0),
-        (Method::Dop853, 101, 0, 1517, 303),
+        (Method::Dop853, 101, 0, 1508, 294),
     ];
     for (method, steps, rejected, rhs_evals, dense_evals) in snapshot {
         let opts = SolverOptions::default()

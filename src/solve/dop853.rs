@@ -51,7 +51,6 @@ impl Pair for Dop853 {
     const FSAL: usize = FSAL;
     const LAST_STAGE: usize = N_STAGES - 1;
     const DENSE_VECTORS: usize = DENSE_VECTORS;
-    const DENSE_EVALUATES_RHS: bool = true;
     const CONTROL: ControlParams = ControlParams {
         q: 8.0,
         kappa: 0.2,
