@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use linkdyn::analysis::compare;
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs, ReducedLagrangian};
-use linkdyn::solve::{Method, Recorder, SolverOptions, integrate};
+use linkdyn::solve::{Method, Recorder};
 
 /// Relative tolerance of both runs; absolute tolerance far below every state's size.
 const RTOL: f64 = 1e-11;
@@ -30,16 +30,7 @@ const N: f64 = 1.5;
 const CRANK: f64 = 0.25;
 
 fn run<F: Formulation + Outputs>(f: &mut F, t_end: f64) -> Recorder {
-    let options = SolverOptions::default()
-        .method(Method::Dop853)
-        .rtol(RTOL)
-        .atol(ATOL)
-        .build()
-        .unwrap_or_else(|e| panic!("{e}"));
-    let y0 = f.initial_state();
-    let mut rec = Recorder::new(f);
-    integrate(f, 0.0, &y0, t_end, 1e-4, &options, &mut rec).unwrap_or_else(|e| panic!("{e}"));
-    rec
+    run_formulation(f, t_end, 1e-4, Method::Dop853, RTOL, ATOL).0
 }
 
 fn agree_over_two_turns(speed_rpm: f64) {

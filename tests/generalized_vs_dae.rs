@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use linkdyn::analysis::compare;
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Generalized, Outputs, ReducedLagrangian};
-use linkdyn::solve::{Method, Recorder, SolverOptions, integrate};
+use linkdyn::solve::{Method, Recorder};
 
 /// Tolerances of all runs (as tests/dae_vs_reduced.rs).
 const RTOL: f64 = 1e-11;
@@ -21,16 +21,7 @@ const ATOL: f64 = 1e-14;
 const ANGLE_FACTOR: f64 = 300.0;
 
 fn run<F: Formulation + Outputs>(f: &mut F, t_end: f64) -> Recorder {
-    let options = SolverOptions::default()
-        .method(Method::Dop853)
-        .rtol(RTOL)
-        .atol(ATOL)
-        .build()
-        .unwrap_or_else(|e| panic!("{e}"));
-    let y0 = f.initial_state();
-    let mut rec = Recorder::new(f);
-    integrate(f, 0.0, &y0, t_end, 1e-4, &options, &mut rec).unwrap_or_else(|e| panic!("{e}"));
-    rec
+    run_formulation(f, t_end, 1e-4, Method::Dop853, RTOL, ATOL).0
 }
 
 fn agree_over_two_turns(speed_rpm: f64) {

@@ -3,7 +3,7 @@
 
 pub mod ode;
 
-use linkdyn::formulation::{Dae, DaeOptions, Formulation};
+use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs};
 use linkdyn::model::Model;
 use linkdyn::solve::Recorder;
 use linkdyn::solve::{Method, SolverOptions, SolverStats, integrate};
@@ -30,6 +30,18 @@ pub fn run_dae(
         Ok(d) => d,
         Err(e) => panic!("{e}"),
     };
+    run_formulation(&mut dae, t_end, dt, method, rtol, atol)
+}
+
+/// Integrates any formulation from its initial state to `t_end`, sampling every `dt`.
+pub fn run_formulation<F: Formulation + Outputs>(
+    f: &mut F,
+    t_end: f64,
+    dt: f64,
+    method: Method,
+    rtol: f64,
+    atol: f64,
+) -> (Recorder, SolverStats) {
     let options = match SolverOptions::default()
         .method(method)
         .rtol(rtol)
@@ -39,9 +51,9 @@ pub fn run_dae(
         Ok(o) => o,
         Err(e) => panic!("{e}"),
     };
-    let y0 = dae.initial_state();
-    let mut rec = Recorder::new(&dae);
-    let stats = match integrate(&mut dae, 0.0, &y0, t_end, dt, &options, &mut rec) {
+    let y0 = f.initial_state();
+    let mut rec = Recorder::new(f);
+    let stats = match integrate(f, 0.0, &y0, t_end, dt, &options, &mut rec) {
         Ok(s) => s,
         Err(e) => panic!("{e}"),
     };
