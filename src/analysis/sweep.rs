@@ -21,7 +21,9 @@
 //! * **Parallel map.** [`run_points`] calls the user's closure on every chosen point in the
 //!   current rayon thread pool (wrap the call in `ThreadPool::install` to choose the threads),
 //!   calls `on_done` for each point as it finishes (in order of completion, one at a time, so it
-//!   may append to a file), and returns the results in grid order.
+//!   may append to a file), and returns the results in grid order. [`run_points_until`] also
+//!   takes a cancellation check: once it answers true, no further point starts, the points in
+//!   flight finish and are reported, and the finished points are returned.
 
 use std::collections::BTreeSet;
 use std::fmt;
@@ -295,6 +297,29 @@ where
     C: Fn(usize, f64) -> T + Sync,
     D: FnMut(&SweepPoint<T>) -> Result<(), E> + Send,
 {
+    run_points_until(grid, indices, compute, on_done, || false)
+}
+
+/// [`run_points`] that starts no further point once `cancelled()` answers true (a signal, a
+/// deadline): the points in flight finish and are reported to `on_done`, and the points
+/// reported are returned, in grid order — fewer than `indices` exactly when cancelled. What
+/// `on_done` accepted is what is done, so [`remaining`] continues the sweep.
+///
+/// Errors: as [`run_points`].
+pub fn run_points_until<T, E, C, D, S>(
+    grid: &ParameterGrid,
+    indices: &[usize],
+    compute: C,
+    on_done: D,
+    cancelled: S,
+) -> Result<Vec<SweepPoint<T>>, E>
+where
+    T: Send,
+    E: Send + From<AnalysisError>,
+    C: Fn(usize, f64) -> T + Sync,
+    D: FnMut(&SweepPoint<T>) -> Result<(), E> + Send,
+    S: Fn() -> bool + Sync,
+{
     let mut seen = BTreeSet::new();
     let mut points = Vec::with_capacity(indices.len());
     for &j in indices {
@@ -320,7 +345,7 @@ where
     let finished: Vec<Option<SweepPoint<T>>> = points
         .par_iter()
         .map(|&(index, parameter)| {
-            if stop.load(Ordering::Relaxed) {
+            if stop.load(Ordering::Relaxed) || cancelled() {
                 return None;
             }
             let point = SweepPoint {
@@ -410,6 +435,58 @@ mod tests {
             Some(
                 "invalid --shard: expected i/n with whole numbers 1 ≤ i ≤ n (e.g. 2/4), got \"two/4\""
             )
+        );
+    }
+
+    #[test]
+    fn cancelled_sweeps_report_exactly_what_they_return() {
+        // Cancelled once three points are reported: with two threads a fourth point may be in
+        // flight; it finishes and is reported too, and nothing else starts.
+        let grid = ParameterGrid::new(0.0, 1.0, 9);
+        let Ok(grid) = grid else {
+            panic!("{grid:?}");
+        };
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build();
+        let Ok(pool) = pool else {
+            panic!("no thread pool");
+        };
+        let cancel = AtomicBool::new(false);
+        let mut reported = Vec::new();
+        let all: Vec<usize> = (0..grid.len()).collect();
+        let got: Result<Vec<SweepPoint<f64>>, AnalysisError> = pool.install(|| {
+            run_points_until(
+                &grid,
+                &all,
+                |_, p| 2.0 * p,
+                |p| {
+                    reported.push(p.index);
+                    if reported.len() >= 3 {
+                        cancel.store(true, Ordering::SeqCst);
+                    }
+                    Ok(())
+                },
+                || cancel.load(Ordering::SeqCst),
+            )
+        });
+        let Ok(got) = got else {
+            panic!("{got:?}");
+        };
+        let returned: Vec<usize> = got.iter().map(|p| p.index).collect();
+        reported.sort_unstable();
+        assert_eq!(returned, reported, "returned vs reported points");
+        assert!(
+            (3..=4).contains(&returned.len()),
+            "3 reported before the cancellation and at most one in flight, got {returned:?}"
+        );
+        assert!(
+            got.iter().all(|p| p.result == 2.0 * p.parameter),
+            "results kept with their points: {got:?}"
+        );
+        let left = remaining(&grid, None, &returned);
+        assert_eq!(
+            left.map(|l| l.len()).ok(),
+            Some(grid.len() - returned.len()),
+            "resume runs the rest"
         );
     }
 }

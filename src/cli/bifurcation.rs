@@ -10,9 +10,15 @@
 //! drops any partial rows, and runs only the rest. When every point of the shard is done, both
 //! files are rewritten in index order, so the result does not depend on the threads, and shard
 //! files merged with `linkdyn merge` equal an unsharded run byte for byte.
+//!
+//! **Ctrl-C** (SIGINT, SIGTERM, SIGHUP): no new point starts, the points in flight finish and
+//! are appended, and the command exits with code 130 saying how many points are on disk and
+//! that `--resume` continues; a second signal stops at once (the finished points are on disk,
+//! a cut-off row is dropped by `--resume`). The files then hold the finished points in order
+//! of completion; `--resume` puts them in index order.
 
 use super::poincare::{ModelArgs, bad, provenance_lines};
-use super::{EXIT_OUTPUT, Failure};
+use super::{EXIT_INTERRUPTED, EXIT_OUTPUT, Failure, interrupt};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use linkdyn::analysis::{self, ParameterGrid, PeriodVerdict, Shard, SweepPoint};
@@ -276,16 +282,34 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
             .build()
             .map_err(|e| bad("threads", format!("cannot start the threads: {e}")))?
     };
+    interrupt::install();
+    // A signal only raises the flag: points stop starting, those in flight are written.
+    interrupt::defer_to_caller();
     let results = pool.install(|| {
-        analysis::run_points(
+        analysis::run_points_until(
             &grid,
             &todo,
             |_, p| sweep.point(p).map_err(Failure::from),
             |p| appender.append(p),
+            interrupt::requested,
         )
     });
     appender.finish();
     let results = results?;
+    if results.len() < todo.len() {
+        // Only a signal leaves points out of a successful return.
+        let total = done.len() + todo.len();
+        let kept = done.len() + results.len();
+        return Err(Failure {
+            code: EXIT_INTERRUPTED,
+            message: format!(
+                "interrupted: {kept} of {total} points are finished in {} and {}; run the same command with --resume to compute the {} left",
+                out.display(),
+                verdicts.display(),
+                total - kept
+            ),
+        });
+    }
 
     // Every point of the shard is done: index order, whatever the threads did.
     let all: BTreeSet<usize> = (0..grid.len()).collect();

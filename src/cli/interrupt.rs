@@ -6,6 +6,12 @@
 //! long time between two samples when `--dt` is large), the handler thread removes the
 //! registered scratch files itself and exits with code 130 — unless the result files are being
 //! committed, which is left to finish (then the run ends normally with a complete pair).
+//!
+//! `bifurcation` calls [`defer_to_caller`] after [`install`]: a first signal only raises the
+//! flag (the sweep stops starting points, lets the points in flight finish and be written, and
+//! exits with code 130 itself), so the handler never ends the process in the middle of a write;
+//! a second signal ends it at once (finished points are on disk; a row cut off by it is dropped
+//! by `--resume`).
 
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -15,6 +21,7 @@ use std::time::Duration;
 static REQUESTED: AtomicBool = AtomicBool::new(false);
 static COMMITTING: AtomicBool = AtomicBool::new(false);
 static SCRATCH: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+static DEFERRED: AtomicBool = AtomicBool::new(false);
 
 /// How long the run may take to notice a signal before the handler cleans up itself.
 const GRACE: Duration = Duration::from_secs(2);
@@ -24,7 +31,17 @@ pub fn install() {
     // If a handler cannot be installed the default action (termination) stays: temporary files
     // may then be left behind, as before.
     let _ = ctrlc::set_handler(|| {
-        REQUESTED.store(true, Ordering::SeqCst);
+        let again = REQUESTED.swap(true, Ordering::SeqCst);
+        if DEFERRED.load(Ordering::SeqCst) {
+            if again {
+                eprintln!("error: interrupted twice: stopped at once; finished points are kept");
+                std::process::exit(i32::from(super::EXIT_INTERRUPTED));
+            }
+            eprintln!(
+                "interrupted: finishing the points in flight (press Ctrl-C again to stop at once)"
+            );
+            return;
+        }
         // This runs on the handler's own thread: the main thread normally exits first.
         std::thread::sleep(GRACE);
         if COMMITTING.load(Ordering::SeqCst) {
@@ -38,6 +55,12 @@ pub fn install() {
         eprintln!("error: {}", super::Failure::interrupted().message);
         std::process::exit(i32::from(super::EXIT_INTERRUPTED));
     });
+}
+
+/// After [`install`]: a first signal only raises the flag, the caller stops by itself; a second
+/// one exits with code 130 at once (module docs).
+pub fn defer_to_caller() {
+    DEFERRED.store(true, Ordering::SeqCst);
 }
 
 /// Whether a signal arrived.

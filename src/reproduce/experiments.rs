@@ -1,7 +1,7 @@
 //! The computations behind each figure, per friction variant, and the figures they draw.
 
 use super::figures::{self, FigureFile};
-use super::{Attempt, Plan, ReproduceOptions, Variant, attempts};
+use super::{Attempt, Plan, ReproduceOptions, Variant, attempts, sweep_attempts};
 use crate::analysis::{self, ParameterGrid, PeriodVerdict, SweepPoint};
 use crate::error::{Error, Result};
 use crate::model::{Model, idealise, load};
@@ -158,6 +158,8 @@ pub struct SweepFindings {
     pub no_period: usize,
     /// Wall time of the sweep (s).
     pub wall_s: f64,
+    /// The solver tried first at every point (the others are fallbacks).
+    pub solver: String,
     /// Points that needed a fallback solver.
     pub fallbacks: usize,
     /// Worker threads.
@@ -666,7 +668,7 @@ fn sweep(
         phase: 0.0,
         observe: vec![JOURNAL_X.into()],
     };
-    let sweeps: Vec<(String, Sweep<'_>)> = attempts()
+    let sweeps: Vec<(String, Sweep<'_>)> = sweep_attempts(variant)
         .into_iter()
         .map(|a| {
             (
@@ -711,6 +713,10 @@ fn sweep(
         period_k: 0,
         no_period: 0,
         wall_s,
+        solver: sweeps
+            .first()
+            .map(|(name, _)| name.clone())
+            .unwrap_or_default(),
         fallbacks: 0,
         threads: rayon::current_num_threads(),
     };

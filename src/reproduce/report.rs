@@ -294,11 +294,12 @@ fn speed(out: &mut String, f: &Findings) {
     if let Some(s) = find(f, Variant::Intended).and_then(|v| v.sweep_3500.as_ref()) {
         let _ = writeln!(
             out,
-            "This run's intended-friction sweep: {} points × {} turns in {:.1} s on {} threads (DOP853, rtol 1e-8; {} the paper's 200 × 150).",
+            "This run's intended-friction sweep: {} points × {} turns in {:.1} s on {} threads ({}; {} the paper's 200 × 150).",
             s.points,
             f.plan.bifurcation.1,
             s.wall_s,
             s.threads,
+            s.solver,
             if s.points == 200 && f.plan.bifurcation.1 == 150 {
                 "exactly"
             } else {
