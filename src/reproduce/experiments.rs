@@ -1,7 +1,7 @@
 //! The computations behind each figure, per friction variant, and the figures they draw.
 
 use super::figures::{self, FigureFile};
-use super::{Attempt, Plan, ReproduceOptions, Variant, attempts, sweep_attempts};
+use super::{Attempt, Plan, ReproduceOptions, Variant, attempts};
 use crate::analysis::{self, ParameterGrid, PeriodVerdict, SweepPoint};
 use crate::error::{Error, Result};
 use crate::model::{Model, idealise, load};
@@ -668,7 +668,7 @@ fn sweep(
         phase: 0.0,
         observe: vec![JOURNAL_X.into()],
     };
-    let sweeps: Vec<(String, Sweep<'_>)> = sweep_attempts(variant)
+    let sweeps: Vec<(String, Sweep<'_>)> = attempts()
         .into_iter()
         .map(|a| {
             (
