@@ -31,6 +31,8 @@ use std::cell::RefCell;
 
 use super::cholesky;
 
+mod jacobian;
+
 /// Options of the DAE formulation.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct DaeOptions {
@@ -778,6 +780,19 @@ impl Formulation for Dae {
                 )
             },
         })
+    }
+
+    /// Analytic: see `dae/jacobian.rs` (no RHS call).
+    fn jacobian(
+        &self,
+        t: f64,
+        y: &[f64],
+        _f_y: &[f64],
+        out: &mut [f64],
+        _work: &mut [f64],
+    ) -> Result<usize, FormulationError> {
+        self.analytic_jacobian(t, y, out)?;
+        Ok(0)
     }
 
     /// With λ as algebraic unknowns ([`super::residual_dae`]).

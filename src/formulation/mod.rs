@@ -6,6 +6,7 @@
 
 pub mod assembly;
 pub mod cholesky;
+pub mod contact_slopes;
 pub mod contacts;
 pub mod dae;
 pub mod generalized;

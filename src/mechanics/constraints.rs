@@ -19,6 +19,9 @@
 use super::planar::{dot, perp, point_state, rotate};
 use crate::model::{Frame, JointId, JointKind, Model};
 
+mod curvature;
+pub use curvature::RowCurvature;
+
 /// What a constraint row enforces, for messages and output.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RowSource {

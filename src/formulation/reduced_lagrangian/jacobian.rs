@@ -13,31 +13,15 @@
 //!   r3, r4 = −R_B, R_J (swapped with the bearing): the kinematics analytically,
 //!   e = σ (C4 − C3), ∂e/∂θ3 = −σ L3 J u3, ∂e/∂θ4 = σ L4 J u4, ė likewise with the rates
 //!   (∂ė/∂θ3 = σ θ̇3 d3, ∂ė/∂θ4 = −σ θ̇4 d4), ∂n = t (t·∂e)/|e|, ∂t = J ∂n, ∂δ = n·∂e,
-//!   ∂δ̇ = n·∂ė + ė·∂n, ∂v_t = t·∂ė + ė·∂t + R_J ∂ω_J − R_B ∂ω_B; the scalar laws
-//!   F_N(δ, δ̇, δ̇⁽⁻⁾) and F_T(F_N, v_t) by **central differences of the law alone** (a few
-//!   flops each, no kinematics, no sin/cos), so that every contact law and friction law of
-//!   [`crate::contact`] is covered without a derivative of its own. Increments: 1e-6 of the
-//!   argument with floors (1e-10 m, 1e-7 m/s, 1e-3 N) far below the scales of the reference
-//!   case (δ ~ 1e-6 m, δ̇ ~ 0.1 m/s, F_N ~ 1e3 N); a kink of a law (δ = 0, the friction ramp's
-//!   ends v0, v1) inside an increment gives the mean of the one-sided slopes, which serves a
-//!   simplified Newton iteration as well as either.
-//!
-//! The stored impact velocity enters only through the law: ∂F_N/∂δ̇⁽⁻⁾ where one is stored
-//! (> 0), otherwise F_N uses the current δ̇ (see [`impact_velocity`]).
+//!   ∂δ̇, ∂v_t, ∂F_N, ∂F_T and ∂F_J from ∂e, ∂ė and the spin rates by
+//!   [`LawSlopes`] (`formulation/contact_slopes.rs`, shared with the DAE's Jacobian): exact
+//!   kinematics, the scalar laws F_N(δ, δ̇, δ̇⁽⁻⁾) and F_T(F_N, v_t) by central differences
+//!   of the law alone, so that every contact law and friction law is covered.
 
 use super::{ReducedLagrangian, state};
-use crate::contact::{friction_force, impact_velocity};
 use crate::formulation::FormulationError;
-use crate::mechanics::planar::{cross, dot, perp, rotate};
-
-/// Relative increment of the central differences of the scalar laws.
-const REL: f64 = 1e-6;
-
-/// Central difference of `g` at x with increment REL·max(|x|, floor).
-fn central(g: impl Fn(f64) -> f64, x: f64, floor: f64) -> f64 {
-    let h = REL * x.abs().max(floor);
-    (g(x + h) - g(x - h)) / (2.0 * h)
-}
+use crate::formulation::contact_slopes::{Direction, LawSlopes};
+use crate::mechanics::planar::{cross, perp, rotate};
 
 /// A vector of ∂/∂y_k for the five states.
 type Grad = [f64; 5];
@@ -82,8 +66,6 @@ impl ReducedLagrangian {
         let f_n = d.forces.normal_force;
         if kin.delta > 0.0 && kin.distance > 0.0 {
             let sigma = if self.bearing_on_coupler { 1.0 } else { -1.0 };
-            let n = kin.normal;
-            let tan = perp(n);
             let (d3, d4) = (c.d[1], c.d[2]);
             let (jd3, jd4) = (perp(d3), perp(d4));
             // ∂e and ∂ė per state (columns θ3, θ4, θ̇3, θ̇4, δ̇⁽⁻⁾).
@@ -101,59 +83,32 @@ impl ReducedLagrangian {
                 scale(jd4, sigma),
                 [0.0; 2],
             ];
-            // Angular velocities of journal and bearing: ∂ω_J − R_B/R_J… per state.
+            // r3, r4 = ∂(R_J ω_J − R_B ω_B)/∂(θ̇3, θ̇4), also the arms of F_T in the moments.
             let (r_j, r_b) = (kin.journal_radius, kin.bearing_radius);
-            // ∂(R_J ω_J − R_B ω_B)/∂(θ̇3, θ̇4).
-            let (spin3, spin4) = if self.bearing_on_coupler {
-                (-r_b, r_j)
-            } else {
-                (r_j, -r_b)
-            };
-            let joint = &self.joint;
-            let v_imp = impact_velocity(stored, kin.delta_dot);
-            let law =
-                |delta: f64, delta_dot: f64, v: f64| joint.law.normal_force(delta, delta_dot, v);
-            let n_delta = central(|x| law(x, kin.delta_dot, v_imp), kin.delta, 1e-10);
-            // δ̇ enters twice without a stored impact velocity (rate and impact velocity).
-            let n_rate = if stored > 0.0 {
-                central(|x| law(kin.delta, x, stored), kin.delta_dot, 1e-7)
-            } else {
-                central(|x| law(kin.delta, x, x), kin.delta_dot, 1e-7)
-            };
-            let n_stored = if stored > 0.0 {
-                central(|x| law(kin.delta, kin.delta_dot, x), stored, 1e-7)
-            } else {
-                0.0
-            };
-            let v_t = kin.tangential_velocity;
-            let friction = |normal: f64, v: f64| friction_force(&joint.friction, normal, v);
-            let t_normal = central(|x| friction(x, v_t), f_n, 1e-3);
-            let t_slip = central(|x| friction(f_n, x), v_t, 1e-7);
-            let f_t = d.forces.friction_force;
-            let f3 = d.f3;
             let (r3, r4) = if self.bearing_on_coupler {
                 (-r_b, r_j)
             } else {
                 (r_j, -r_b)
             };
+            let slopes = LawSlopes::at(&self.joint, kin, stored, f_n);
+            let f_t = d.forces.friction_force;
+            let f3 = d.f3;
             for k in 0..5 {
-                let dn = scale(tan, dot(tan, de[k]) / kin.distance);
-                let dt = perp(dn);
-                let d_delta = dot(n, de[k]);
-                let d_rate = dot(n, de_dot[k]) + dot(kin.e_dot, dn);
-                let d_spin = match k {
-                    2 => spin3,
-                    3 => spin4,
+                let spin = match k {
+                    2 => r3,
+                    3 => r4,
                     _ => 0.0,
                 };
-                let d_slip = dot(tan, de_dot[k]) + dot(kin.e_dot, dt) + d_spin;
-                let d_fn =
-                    n_delta * d_delta + n_rate * d_rate + if k == 4 { n_stored } else { 0.0 };
-                let d_ft = t_normal * d_fn + t_slip * d_slip;
-                let df3 = [
-                    sigma * (d_fn * n[0] + f_n * dn[0] - d_ft * tan[0] - f_t * dt[0]),
-                    sigma * (d_fn * n[1] + f_n * dn[1] - d_ft * tan[1] - f_t * dt[1]),
-                ];
+                let direction = Direction {
+                    e: de[k],
+                    e_dot: de_dot[k],
+                    spin,
+                    stored: if k == 4 { 1.0 } else { 0.0 },
+                };
+                let df = slopes.derivative(kin, f_n, f_t, &direction);
+                let d_ft = df.friction;
+                // f3 = σ F_B = −σ F_J.
+                let df3 = scale(df.on_journal, -sigma);
                 // ∂d3/∂θ3 = J d3 and ∂d4/∂θ4 = J d4; f4 = −f3.
                 let dd3 = if k == 0 { jd3 } else { [0.0; 2] };
                 let dd4 = if k == 1 { jd4 } else { [0.0; 2] };

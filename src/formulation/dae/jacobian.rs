@@ -1,0 +1,344 @@
+//! Analytic Jacobian J = ∂f/∂y of the DAE's right-hand side (used by Radau5 through
+//! [`Formulation::jacobian`](crate::formulation::Formulation::jacobian)): no RHS call.
+//!
+//! With y = (q, q̇, δ̇⁽⁻⁾, energy) and f = (q̇, q̈, 0, energy rates), the rows of q are (0 I 0),
+//! those of the stored impact velocities zero, and the rows of q̈ follow from differentiating
+//! the two equations that define it (module documentation of [`super`]),
+//!
+//! ```text
+//!     M q̈ + Φ_qᵀ λ = Q(t, q, q̇, δ̇⁽⁻⁾),    Φ_q q̈ = c,   c = γ − 2α Φ̇ − β² Φ,
+//! ```
+//!
+//! along a state component y_j:
+//!
+//! ```text
+//!     M ∂q̈ + Φ_qᵀ ∂λ = r_j := ∂Q/∂y_j − (Σ_k λ_k H_k)·e_j          (q columns only)
+//!     Φ_q ∂q̈        = s_j := ∂c/∂y_j − H_k q̈ · e_j, row by row    (q columns only)
+//! ```
+//!
+//! with H_k = ∂²Φ_k/∂q² ([`RowCurvature`]), ∂c/∂q = ∂γ/∂q − 2α H v − β² Φ_q and
+//! ∂c/∂q̇ = ∂γ/∂q̇ − 2α Φ_q (Φ_t depends on t only). So each column costs one solve with the
+//! Schur complement S = Φ_q M⁻¹ Φ_qᵀ that the right-hand side factors too:
+//! ∂λ = S⁻¹ (Φ_q M⁻¹ r_j − s_j), ∂q̈ = M⁻¹ (r_j − Φ_qᵀ ∂λ).
+//!
+//! ∂Q/∂y: gravity and constant loads contribute nothing; the contact forces of each clearance
+//! joint in contact exactly in their kinematics and by central differences of the scalar laws
+//! alone ([`LawSlopes`], shared with the reduced formulation): with the journal centre
+//! r_J = r_j + A_j s_J on body j and the bearing centre r_B on body b, ∂e/∂r_j = I,
+//! ∂e/∂φ_j = perp(A_j s_J), ∂ė/∂φ_j = −φ̇_j A_j s_J, ∂ė/∂ṙ_j = I, ∂ė/∂φ̇_j = perp(A_j s_J),
+//! ∂(R_J ω_J − R_B ω_B)/∂φ̇_j = R_J (the bearing's likewise with the signs and R_B), and the
+//! moment arm's own turn ∂(A s × F)/∂φ = perp(A s) × F. The model's force elements (springs,
+//! dampers, expression loads and torques, torque drivers), where there are any, by central
+//! differences of the applied-force vector Q alone (cheap: no constraint solve).
+//!
+//! The energy rates (with [`DaeOptions::energy`](super::DaeOptions::energy)) get zero rows:
+//! those states feed back into nothing, so the Newton iteration's matrix is block triangular
+//! and their stage values converge with the others' (one iteration behind); they are not
+//! error-controlled.
+
+use super::{Dae, sin_cos_of};
+use crate::formulation::FormulationError;
+use crate::formulation::cholesky;
+use crate::formulation::contact_slopes::{Direction, LawSlopes};
+use crate::mechanics::constraints::{ConstraintEval, RowCurvature};
+use crate::mechanics::planar::{cross, perp};
+use crate::model::{Baumgarte, Frame};
+
+/// Relative increment of the central differences of the force elements (about u^{1/3}, the
+/// optimum for central differences of smooth functions).
+const FORCE_REL: f64 = 6e-6;
+
+impl Dae {
+    /// Writes J = ∂f/∂y at (t, y) row-major into `out` (length n_states²). Fails as
+    /// [`Formulation::rhs`](crate::formulation::Formulation::rhs) does.
+    pub(super) fn analytic_jacobian(
+        &self,
+        t: f64,
+        y: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), FormulationError> {
+        use crate::formulation::Formulation;
+        let ny = self.n_states();
+        if out.len() != ny * ny || y.len() != ny {
+            return Err(FormulationError::Unsupported {
+                formulation: "DAE".into(),
+                reason: format!(
+                    "Jacobian buffer of length {} and state of length {} for {ny} states",
+                    out.len(),
+                    y.len()
+                ),
+            });
+        }
+        let eval = self.evaluate(t, y)?;
+        let n = self.n_coordinates();
+        let nc = self.contacts.len();
+        let n_cols = 2 * n + nc;
+        let (q, v) = (&y[..n], &y[n..2 * n]);
+        let sin_cos = sin_cos_of(q);
+
+        // ∂Q/∂y over the columns q, q̇, δ̇⁽⁻⁾ (n × n_cols, row-major).
+        let mut dq_force = vec![0.0; n * n_cols];
+        self.contact_force_derivatives(y, &sin_cos, &mut dq_force);
+        if !self.model.forces.is_empty() {
+            self.applied_force_derivatives(t, y, &mut dq_force);
+        }
+
+        // Constraint rows, their curvature, and the dense pieces of the active rows.
+        let m = self.constraints.n_rows();
+        let mut ce = ConstraintEval::with_rows(m);
+        self.constraints.evaluate_into(t, q, v, &sin_cos, &mut ce);
+        let mut curvature = vec![RowCurvature::default(); m];
+        self.constraints
+            .curvature_into(q, v, &sin_cos, &mut curvature);
+        let ma = self.active.len();
+        let Baumgarte { alpha, beta } = self.baumgarte;
+        let acc = &eval.acceleration;
+        // Per active row i, dense over the n coordinates: Φ_q, H q̈, ∂c/∂q, ∂c/∂q̇.
+        let mut jac = vec![0.0; ma * n];
+        let mut c_q = vec![0.0; ma * n];
+        let mut c_v = vec![0.0; ma * n];
+        // Σ_k λ_k H_k (n × n).
+        let mut lambda_h = vec![0.0; n * n];
+        for (i, &k) in self.active.iter().enumerate() {
+            let row = &ce.rows[k];
+            let cols = local_columns(row.body_a, row.body_b);
+            let local = |w: &[f64]| {
+                let mut out = [0.0; 6];
+                for (l, c) in cols.iter().enumerate() {
+                    if let Some(c) = c {
+                        out[l] = w[*c];
+                    }
+                }
+                out
+            };
+            let (acc_l, v_l) = (local(acc), local(v));
+            let h = &curvature[k].hessian;
+            let lambda = eval.lambda[k];
+            for (l, cl) in cols.iter().enumerate() {
+                let Some(cl) = *cl else { continue };
+                let jac_l = if l < 3 {
+                    row.jac_a[l]
+                } else {
+                    row.jac_b[l - 3]
+                };
+                let h_acc: f64 = (0..6).map(|p| h[l][p] * acc_l[p]).sum();
+                let h_v: f64 = (0..6).map(|p| h[l][p] * v_l[p]).sum();
+                jac[i * n + cl] += jac_l;
+                c_q[i * n + cl] +=
+                    curvature[k].gamma_q[l] - 2.0 * alpha * h_v - beta * beta * jac_l - h_acc;
+                c_v[i * n + cl] += curvature[k].gamma_v[l] - 2.0 * alpha * jac_l;
+                for (p, cp) in cols.iter().enumerate() {
+                    if let Some(cp) = cp {
+                        lambda_h[cl * n + cp] += lambda * h[l][p];
+                    }
+                }
+            }
+        }
+        // S = Φ_q M⁻¹ Φ_qᵀ (lower triangle suffices), factored.
+        let mut schur = vec![0.0; ma * ma];
+        for i in 0..ma {
+            for j in 0..=i {
+                schur[i * ma + j] = (0..n)
+                    .map(|c| jac[i * n + c] * self.inv_mass[c] * jac[j * n + c])
+                    .sum();
+            }
+        }
+        if let Err(pivot) = cholesky::factor(&mut schur, ma) {
+            return Err(FormulationError::SingularConstraints {
+                t,
+                constraint: self.constraints.row_name(&self.model, self.active[pivot]),
+            });
+        }
+
+        out.fill(0.0);
+        for c in 0..n {
+            out[c * ny + n + c] = 1.0;
+        }
+        let mut r = vec![0.0; n];
+        let mut rhs = vec![0.0; ma];
+        for col in 0..n_cols {
+            for c in 0..n {
+                r[c] = dq_force[c * n_cols + col];
+                if col < n {
+                    r[c] -= lambda_h[c * n + col];
+                }
+            }
+            for (i, b) in rhs.iter_mut().enumerate() {
+                let s = if col < n {
+                    c_q[i * n + col]
+                } else if col < 2 * n {
+                    c_v[i * n + col - n]
+                } else {
+                    0.0
+                };
+                let row = &jac[i * n..(i + 1) * n];
+                *b = row
+                    .iter()
+                    .zip(&r)
+                    .zip(&self.inv_mass)
+                    .map(|((a, r), im)| a * im * r)
+                    .sum::<f64>()
+                    - s;
+            }
+            cholesky::solve(&schur, ma, &mut rhs);
+            for c in 0..n {
+                let constraint: f64 = (0..ma).map(|i| jac[i * n + c] * rhs[i]).sum();
+                out[(n + c) * ny + col] = self.inv_mass[c] * (r[c] - constraint);
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds ∂Q/∂y of the contact forces to `dq` (n × (2n + n_c), row-major).
+    fn contact_force_derivatives(&self, y: &[f64], sin_cos: &[(f64, f64)], dq: &mut [f64]) {
+        let n = self.n_coordinates();
+        let n_cols = 2 * n + self.contacts.len();
+        let (q, v) = (&y[..n], &y[n..2 * n]);
+        for (k, site) in self.contacts.sites().iter().enumerate() {
+            let stored = y[2 * n + k];
+            let s = self.contacts.site_state(k, q, v, sin_cos, stored);
+            let kin = &s.kinematics;
+            if !(kin.delta > 0.0 && kin.distance > 0.0) {
+                continue;
+            }
+            let (f_n, f_t) = (s.forces.normal_force, s.forces.friction_force);
+            let slopes = LawSlopes::at(&site.contact, kin, stored, f_n);
+            // Directions per column: journal with sign +1, bearing with −1.
+            let mut dirs: Vec<(usize, Direction)> = Vec::with_capacity(13);
+            let mut push = |col: usize, d: Direction| match dirs.iter_mut().find(|(c, _)| *c == col)
+            {
+                Some((_, e)) => {
+                    e.e = [e.e[0] + d.e[0], e.e[1] + d.e[1]];
+                    e.e_dot = [e.e_dot[0] + d.e_dot[0], e.e_dot[1] + d.e_dot[1]];
+                    e.spin += d.spin;
+                    e.stored += d.stored;
+                }
+                None => dirs.push((col, d)),
+            };
+            for (frame, point, sign, radius) in [
+                (site.journal.frame, &s.journal, 1.0, kin.journal_radius),
+                (site.bearing.frame, &s.bearing, -1.0, -kin.bearing_radius),
+            ] {
+                let Frame::Body(id) = frame else { continue };
+                let b = 3 * id.0;
+                let arm = point.arm;
+                let u = perp(arm);
+                for axis in 0..2 {
+                    let mut unit = [0.0; 2];
+                    unit[axis] = sign;
+                    push(
+                        b + axis,
+                        Direction {
+                            e: unit,
+                            ..Direction::default()
+                        },
+                    );
+                    push(
+                        n + b + axis,
+                        Direction {
+                            e_dot: unit,
+                            ..Direction::default()
+                        },
+                    );
+                }
+                push(
+                    b + 2,
+                    Direction {
+                        e: [sign * u[0], sign * u[1]],
+                        e_dot: [-sign * point.omega * arm[0], -sign * point.omega * arm[1]],
+                        ..Direction::default()
+                    },
+                );
+                push(
+                    n + b + 2,
+                    Direction {
+                        e_dot: [sign * u[0], sign * u[1]],
+                        spin: radius,
+                        ..Direction::default()
+                    },
+                );
+            }
+            push(
+                2 * n + k,
+                Direction {
+                    stored: 1.0,
+                    ..Direction::default()
+                },
+            );
+
+            let on_journal = s.forces.on_journal;
+            for (col, d) in &dirs {
+                let df = slopes.derivative(kin, f_n, f_t, d);
+                for (frame, point, sign, moment_arm, force) in [
+                    (
+                        site.journal.frame,
+                        &s.journal,
+                        1.0,
+                        kin.journal_radius,
+                        on_journal,
+                    ),
+                    (
+                        site.bearing.frame,
+                        &s.bearing,
+                        -1.0,
+                        -kin.bearing_radius,
+                        s.forces.on_bearing,
+                    ),
+                ] {
+                    let Frame::Body(id) = frame else { continue };
+                    let b = 3 * id.0;
+                    let d_force = [sign * df.on_journal[0], sign * df.on_journal[1]];
+                    dq[b * n_cols + col] += d_force[0];
+                    dq[(b + 1) * n_cols + col] += d_force[1];
+                    let mut d_moment = cross(point.arm, d_force) + moment_arm * df.friction;
+                    if *col == b + 2 {
+                        // The arm turns with its body.
+                        d_moment += cross(perp(point.arm), force);
+                    }
+                    dq[(b + 2) * n_cols + col] += d_moment;
+                }
+            }
+        }
+    }
+
+    /// Adds ∂Q/∂(q, q̇) of gravity and the force elements to `dq` by central differences of
+    /// the applied-force vector alone (increment [`FORCE_REL`]·max(|y_j|, 1)).
+    fn applied_force_derivatives(&self, t: f64, y: &[f64], dq: &mut [f64]) {
+        let n = self.n_coordinates();
+        let n_cols = 2 * n + self.contacts.len();
+        let mut state = y[..2 * n].to_vec();
+        let (mut plus, mut minus) = (vec![0.0; n], vec![0.0; n]);
+        let eval = |state: &[f64], out: &mut [f64]| {
+            let (q, v) = state.split_at(n);
+            self.applied.evaluate_into(t, q, v, &sin_cos_of(q), out);
+        };
+        for col in 0..2 * n {
+            let x = state[col];
+            let h = FORCE_REL * x.abs().max(1.0);
+            state[col] = x + h;
+            eval(&state, &mut plus);
+            state[col] = x - h;
+            eval(&state, &mut minus);
+            state[col] = x;
+            for c in 0..n {
+                dq[c * n_cols + col] += (plus[c] - minus[c]) / (2.0 * h);
+            }
+        }
+    }
+}
+
+/// The global columns of a row's six local coordinates (None on the ground).
+fn local_columns(a: Option<usize>, b: Option<usize>) -> [Option<usize>; 6] {
+    let mut cols = [None; 6];
+    for (side, body) in [a, b].into_iter().enumerate() {
+        if let Some(body) = body {
+            for c in 0..3 {
+                cols[3 * side + c] = Some(3 * body + c);
+            }
+        }
+    }
+    cols
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,180 @@
+//! The DAE's analytic Jacobian against central differences of the whole right-hand side, out of
+//! contact and in contact (sliding, in the friction ramp, stuck), with and without a stored
+//! impact velocity, on the clearance four-bar (revolute joints, a driver) and on the gas-loaded
+//! slider-crank (a prismatic joint, expression forces, a clearance joint).
+
+use super::super::{Dae, DaeOptions};
+use crate::formulation::{Formulation, FormulationError};
+use crate::mechanics::planar::{dot, perp};
+use crate::model::Frame;
+
+fn dae(path: &str, energy: bool) -> Dae {
+    let model = match crate::model::load(path.as_ref(), &[]) {
+        Ok(m) => m,
+        Err(e) => panic!("{path}: {e}"),
+    };
+    match Dae::new(
+        &model,
+        &DaeOptions {
+            baumgarte: None,
+            energy,
+        },
+    ) {
+        Ok(d) => d,
+        Err(e) => panic!("{path}: {e}"),
+    }
+}
+
+/// A contact state of joint 0: the journal's body moved so that δ = `delta` along the unit
+/// direction at angle `angle`, its velocity changed so that δ̇ = `delta_dot` and the slip
+/// velocity is `slip`, and `stored` as the stored impact velocity.
+fn contact_state(
+    d: &Dae,
+    delta: f64,
+    angle: f64,
+    delta_dot: f64,
+    slip: f64,
+    stored: f64,
+) -> Vec<f64> {
+    let mut y = d.initial_state();
+    let n = d.n_coordinates();
+    let site = &d.contacts().sites()[0];
+    let Frame::Body(id) = site.journal.frame else {
+        panic!("journal on the ground")
+    };
+    let b = 3 * id.0;
+    let s = d.contact_state(0, &y);
+    let c = site.contact.clearance;
+    let dir = [angle.cos(), angle.sin()];
+    for i in 0..2 {
+        y[b + i] += (c + delta) * dir[i] - s.kinematics.e[i];
+    }
+    let s = d.contact_state(0, &y);
+    let k = &s.kinematics;
+    let tan = perp(k.normal);
+    let spin = k.tangential_velocity - dot(k.e_dot, tan);
+    let target = [delta_dot, slip - spin];
+    let now = [dot(k.e_dot, k.normal), dot(k.e_dot, tan)];
+    for i in 0..2 {
+        y[n + b + i] += (target[0] - now[0]) * k.normal[i] + (target[1] - now[1]) * tan[i];
+    }
+    y[2 * n] = stored;
+    let s = d.contact_state(0, &y);
+    assert!(
+        (s.kinematics.delta - delta).abs() < 1e-12
+            && (s.kinematics.delta_dot - delta_dot).abs() < 1e-9
+            && (s.kinematics.tangential_velocity - slip).abs() < 1e-9,
+        "constructed state: δ {} δ̇ {} v_t {}",
+        s.kinematics.delta,
+        s.kinematics.delta_dot,
+        s.kinematics.tangential_velocity
+    );
+    y
+}
+
+/// Largest mismatch between the analytic Jacobian and central differences of f, per entry
+/// relative to |fd| + 1e-6 of the largest entry of its row + 1e-6.
+fn check(d: &Dae, y: &[f64], case: &str) -> Result<(), FormulationError> {
+    let ny = d.n_states();
+    let mut jac = vec![0.0; ny * ny];
+    let mut f_y = vec![0.0; ny];
+    d.rhs(0.01, y, &mut f_y)?;
+    let mut work = vec![0.0; 2 * ny];
+    let calls = d.jacobian(0.01, y, &f_y, &mut jac, &mut work)?;
+    assert_eq!(calls, 0, "{case}: an analytic Jacobian calls no RHS");
+    let (mut fp, mut fm) = (vec![0.0; ny], vec![0.0; ny]);
+    let mut fd = vec![0.0; ny * ny];
+    let mut steps = vec![0.0; ny];
+    for j in 0..ny {
+        let mut yp = y.to_vec();
+        let mut ym = y.to_vec();
+        let h = 1e-7 * y[j].abs().max(0.1);
+        steps[j] = h;
+        yp[j] += h;
+        ym[j] -= h;
+        d.rhs(0.01, &yp, &mut fp)?;
+        d.rhs(0.01, &ym, &mut fm)?;
+        for i in 0..ny {
+            fd[i * ny + j] = (fp[i] - fm[i]) / (2.0 * h);
+        }
+    }
+    let n = d.n_coordinates();
+    let n_energy = if d.n_states() > 2 * d.n_coordinates() + d.n_clearance_joints() {
+        3
+    } else {
+        0
+    };
+    // Rounding scales with the largest intermediate (λ, contact forces), of the order of the
+    // largest acceleration rather than of the row's own.
+    let f_max = f_y.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+    for i in 0..ny - n_energy {
+        let row_max = (0..ny).fold(0.0_f64, |m, j| m.max(fd[i * ny + j].abs()));
+        for j in 0..ny {
+            if j >= 2 * n && y[j] == 0.0 {
+                // No stored impact velocity: the law then uses δ̇ instead, so f jumps as the
+                // stored value leaves 0 and central differences there see the jump, not a slope.
+                continue;
+            }
+            let (a, b) = (jac[i * ny + j], fd[i * ny + j]);
+            // Central differences with h = 1e-7·max(|y_j|, 0.1): truncation (h/δ)² ≈ 1e-5
+            // relative for the δ^1.5 law at δ = 2 µm, and rounding u·|f_i|/h (u = 1.1e-16,
+            // times 100 for the cancellation inside the constraint solve); 1e-4 of the entry,
+            // 1e-6 of the row's largest and that rounding bound leave a margin of ~10.
+            let rounding = 1e-14 * (f_max + 1.0) / steps[j];
+            let bound = 1e-4 * b.abs() + 1e-6 * row_max + rounding;
+            assert!(
+                (a - b).abs() <= bound,
+                "{case}: J[{i}][{j}] analytic {a:e} vs central differences {b:e} (bound {bound:e})"
+            );
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn fourbar_out_of_contact() -> Result<(), FormulationError> {
+    let d = dae("models/farahan2016.toml", false);
+    let mut y = d.initial_state();
+    // Move off the assembled state a little (Φ ≠ 0: Baumgarte terms; the journal stays free)
+    // and change the rates.
+    let n = d.n_coordinates();
+    y[2] += 1e-4;
+    y[5] -= 1e-5;
+    y[n + 5] += 0.5;
+    check(&d, &y, "free, journal centred")
+}
+
+#[test]
+fn fourbar_sliding_contact() -> Result<(), FormulationError> {
+    let d = dae("models/farahan2016.toml", false);
+    let y = contact_state(&d, 2e-6, 0.7, 0.05, 0.3, 0.0);
+    check(&d, &y, "sliding, no stored impact velocity")?;
+    let y = contact_state(&d, 2e-6, 2.5, -0.03, -0.4, 0.2);
+    check(&d, &y, "sliding backwards, stored 0.2 m/s")
+}
+
+#[test]
+fn fourbar_near_stick() -> Result<(), FormulationError> {
+    let d = dae("models/farahan2016.toml", false);
+    // Inside the friction ramp v0 = 0.1 mm/s … v1 = 1 mm/s.
+    let y = contact_state(&d, 3e-6, -1.2, 0.01, 5e-4, 0.1);
+    check(&d, &y, "in the friction ramp")?;
+    // Below v0: no friction force, no friction slope.
+    let y = contact_state(&d, 3e-6, -1.2, 0.01, -5e-5, 0.1);
+    check(&d, &y, "stuck (|v_t| < v0)")
+}
+
+#[test]
+fn fourbar_with_energy_bookkeeping() -> Result<(), FormulationError> {
+    let d = dae("models/farahan2016.toml", true);
+    let y = contact_state(&d, 2e-6, 0.7, 0.05, 0.3, 0.0);
+    check(&d, &y, "sliding, energy states")
+}
+
+#[test]
+fn slider_crank_with_gas_load_and_clearance() -> Result<(), FormulationError> {
+    let d = dae("models/slider_crank_gas.toml", false);
+    check(&d, &d.initial_state(), "slider-crank, initial state")?;
+    let y = contact_state(&d, 2e-6, 0.3, 0.02, 0.2, 0.1);
+    check(&d, &y, "slider-crank, sliding contact")
+}
