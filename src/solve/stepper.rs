@@ -355,13 +355,15 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             if attempts >= self.opts.max_steps {
                 return Err(SolveError::TooManySteps { t, steps: attempts });
             }
-            self.progress.before_attempt(&AttemptAt {
-                t,
-                t_end: self.t_end,
-                attempts,
-                max_steps: self.opts.max_steps,
-                stiff: self.integrator.stiffness_detected(),
-            })?;
+            self.progress
+                .before_attempt(&AttemptAt {
+                    t,
+                    t_end: self.t_end,
+                    attempts,
+                    max_steps: self.opts.max_steps,
+                    stiff: self.integrator.stiffness_detected(),
+                })
+                .map_err(|e| self.with_diagnosis(e))?;
             let last = remaining <= 1.01 * h && remaining <= cap_other;
             if last {
                 h = remaining;
@@ -425,6 +427,33 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             self.stats.record_step(h);
             self.h_next = if adaptive { h_next } else { h };
             return Ok(true);
+        }
+    }
+
+    /// A no-progress error completed with the formulation's diagnosis at the stall state
+    /// (t, y) ([`Formulation::diagnose`]); other errors pass unchanged.
+    fn with_diagnosis(&self, e: SolveError) -> SolveError {
+        match e {
+            SolveError::NoProgress {
+                t,
+                h,
+                advance,
+                attempts,
+                projected,
+                stiff,
+                implicit,
+                diagnosis: None,
+            } => SolveError::NoProgress {
+                t,
+                h,
+                advance,
+                attempts,
+                projected,
+                stiff,
+                implicit,
+                diagnosis: self.f.diagnose(self.t, &self.y),
+            },
+            other => other,
         }
     }
 

@@ -759,6 +759,44 @@ impl Formulation for Generalized {
         Ok(())
     }
 
+    /// The partition's condition (current and best pivot ratio, the independent coordinates
+    /// by name), then the DAE's diagnosis at the projected state
+    /// ([`super::diagnosis::generalized`]).
+    fn diagnose(&self, t: f64, y: &[f64]) -> Option<String> {
+        let start = self.dae_start();
+        let stored = y.get(start..start + self.n_dae)?;
+        let mut work = self.work.borrow_mut();
+        let projected = self.project_into(t, y, &mut work);
+        if projected.is_err() {
+            work.y.copy_from_slice(stored);
+        }
+        self.evaluate_at_projection(t, &mut work);
+        let (current, best) = self.partition_quality(&mut work);
+        let model = self.dae.model();
+        let independent = self
+            .independent(y)
+            .iter()
+            .map(|&c| {
+                let body = model.bodies.get(c / 3).map_or("?", |b| b.name.as_str());
+                format!("{body}.{}", ["x", "y", "phi"][c % 3])
+            })
+            .collect::<Vec<_>>();
+        let independent = if independent.is_empty() {
+            "none: the drivers fix every coordinate".to_string()
+        } else {
+            independent.join(", ")
+        };
+        let state = work.y.clone();
+        drop(work);
+        super::diagnosis::generalized(
+            &self.dae,
+            t,
+            projected.as_ref().map(|()| state.as_slice()),
+            stored,
+            Some((current, best, independent)),
+        )
+    }
+
     /// The DAE's grazing guard at the projected state.
     fn max_step(&self, t: f64, y: &[f64]) -> f64 {
         if self.dae.n_events() == 0 {
