@@ -150,6 +150,8 @@ pub struct Generalized {
     energy: bool,
     /// Largest |Φ| over the accepted step ends (m or rad).
     max_step_violation: f64,
+    /// Repartitions made so far (see [`Generalized::repartitions`]).
+    repartitions: usize,
     work: RefCell<Work>,
 }
 
@@ -225,6 +227,7 @@ impl Generalized {
             contacts: ContactSites::from_model(model),
             energy: options.energy,
             max_step_violation: 0.0,
+            repartitions: 0,
         })
     }
 
@@ -241,6 +244,13 @@ impl Generalized {
     /// Degrees of freedom: coordinates − active constraint rows.
     pub fn dof(&self) -> usize {
         self.n_coordinates() - self.active.len()
+    }
+
+    /// Number of repartitions made so far: repartition events (falling g_rep) that chose a new
+    /// set of independent coordinates and restarted the integrator. Kept across runs of the
+    /// same value (a clone starts from the count of its original).
+    pub fn repartitions(&self) -> usize {
+        self.repartitions
     }
 
     /// Index of the repartition event (after the clearance joints' δ events).
@@ -731,6 +741,7 @@ impl Formulation for Generalized {
             return EventResponse::Continue;
         }
         y[flags_at..flags_at + n].copy_from_slice(&flags);
+        self.repartitions += 1;
         let mut k = 0;
         for (c, &flag) in flags.iter().enumerate() {
             if flag != 0.0 && k < f {
