@@ -192,3 +192,43 @@ fn boundary_contacts(dae: &Dae, y: &[f64]) -> Vec<String> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formulation::{DaeOptions, Formulation};
+
+    /// The reference four-bar with its clearance joint B (c = 0.5 mm, journal on the rocker,
+    /// body 2), journal centred at t = 0.
+    fn reference() -> Dae {
+        let model = crate::model::load("models/farahan2016.toml".as_ref(), &[])
+            .unwrap_or_else(|e| panic!("{e}"));
+        Dae::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn a_healthy_state_has_nothing_to_report() {
+        let dae = reference();
+        // Journal centred (δ = −c) and the linkage far from a toggle.
+        assert_eq!(dae.diagnose(0.0, &dae.initial_state()), None);
+    }
+
+    #[test]
+    fn a_journal_at_its_contact_boundary_is_named() {
+        let dae = reference();
+        let mut y = dae.initial_state();
+        // Move the rocker (the journal's body) by c along x: |e| = c, δ = 0 to round-off.
+        y[6] += 5e-4;
+        let delta = dae.contact_state(0, &y).kinematics.delta;
+        assert!(delta.abs() < 1e-15, "δ = {delta:e} m after the shift");
+        assert_eq!(
+            dae.diagnose(0.0, &y),
+            Some(format!(
+                "clearance joint \"B\" sits at its contact boundary (δ = {delta:.3e} m, clearance 5.000e-4 m): impacts may pile up there (chattering, a Zeno sequence) or the contact grazes"
+            ))
+        );
+        // A thousandth of c away counts no more (|δ| < 1e-3 c is the rule).
+        y[6] -= 1e-6;
+        assert_eq!(dae.diagnose(0.0, &y), None);
+    }
+}
