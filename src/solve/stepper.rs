@@ -2,7 +2,8 @@
 //!
 //! The method (chosen by [`SolverOptions::method`]) owns stepping, error control and dense
 //! output; the driver owns everything around it: the clamps of the step size, events and
-//! restarts, the limits (`max_steps`, `max_wall`, the no-progress rule of `progress.rs`, the
+//! restarts, the limits (`max_steps`, `max_wall`, the no-progress rule of `progress.rs` — its
+//! error completed with the formulation's [`Formulation::diagnose`] at the stall state — the
 //! step floor), NaN checks and the formulation's check of every accepted step end
 //! ([`Formulation::accept_step`]) (see [`Integrator`] for the contract).
 //!
