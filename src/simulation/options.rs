@@ -184,7 +184,7 @@ pub const MAX_OUTPUT_VALUES: f64 = 1e9;
 /// Turns count the driven angle θ(t) of the model's single kinematic driver: t_end = 2π·turns/|ω|
 /// for a constant speed ω and for a speed ramp (at its final speed ω1, as documented in
 /// docs/model_format.md); for a prescribed angle, the first time at which |θ(t) − θ(0)| reaches
-/// 2π·turns ([`prescribed_turns_time`]). A torque driver's angle is an outcome of the run, not
+/// 2π·turns (`prescribed_turns_time`). A torque driver's angle is an outcome of the run, not
 /// known before it: such a model is refused with the advice to give `t_end`.
 pub fn end_time(model: &Model, end: EndTime) -> Result<f64, Error> {
     let t = match end {
