@@ -2,7 +2,9 @@
 //! with a message giving the time, the step size and the cause — "stiff, use an implicit
 //! method" when the method's stiffness test fired, "the step size collapsed" otherwise; a run
 //! that outlives `max_wall` stops with the time reached and the rate; and the rule never comes
-//! near healthy contact-rich runs (the reference four-bar at 250 and 3500 rpm).
+//! near healthy contact-rich runs (the reference four-bar at 250 and 3500 rpm). Issue 12: a
+//! stall at a singular position ends the message with the constraint rows that lose their
+//! independence there (`src/formulation/diagnosis.rs`).
 
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, FormulationError, ReducedLagrangian};
 use linkdyn::solve::{Method, SolveError, SolverOptions, Stepper, Stop};
@@ -83,11 +85,14 @@ fn a_stiff_problem_is_called_stiff_and_an_implicit_method_is_suggested() {
             projected,
             stiff,
             ref implicit,
+            ref diagnosis,
         } = err
         else {
             panic!("{method}: expected NoProgress, got {err}");
         };
         assert!(stiff, "{method}: the stiffness test did not fire ({err})");
+        // A formulation without constraints has nothing to add.
+        assert_eq!(diagnosis, &None, "{method}");
         assert_eq!(attempts, 1000, "{method}");
         // The step sits at the stability limit, hλ of the order of the boundary of the
         // stability region (3.3 for DOPRI5, 6.1 for DOP853), far below what accuracy asks for
@@ -222,4 +227,103 @@ fn healthy_contact_runs_stay_far_from_the_threshold() {
         }
     }
     println!("worst projected/(100·budget) over the reference runs: {worst:.3e}");
+}
+
+/// The reference four-bar with a crank of 0.4 m: at θ2 = π the coupler and rocker are
+/// stretched into a line (0.4 + 0.8 = 0.75 + 0.45) and the driven motion cannot go on (the
+/// toggle of `tests/bad_models.rs`).
+fn toggle() -> linkdyn::model::Model {
+    linkdyn::model::load(
+        "models/fourbar_ideal.toml".as_ref(),
+        &[
+            "bodies.crank.points.A=[0.2,0.0]".to_string(),
+            "bodies.crank.points.O2=[-0.2,0.0]".to_string(),
+            "bodies.crank.initial.x=0.2".to_string(),
+        ],
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The diagnosis of a stall, split at its one number: σ_min/σ_max.
+fn split_ratio(message: &str) -> (&str, f64, &str) {
+    let key = "(σ_min/σ_max = ";
+    let Some(at) = message.find(key) else {
+        panic!("no singular-value ratio in: {message}");
+    };
+    let (head, rest) = message.split_at(at + key.len());
+    let end = rest.find(' ').unwrap_or(rest.len());
+    let ratio = rest[..end]
+        .parse()
+        .unwrap_or_else(|e| panic!("{e}: {message}"));
+    (head, ratio, &rest[end..])
+}
+
+#[test]
+fn a_stall_at_a_toggle_names_the_constraints_that_lose_independence() {
+    let model = toggle();
+    let mut dae = Dae::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let err = failure(&mut dae, 0.24, &SolverOptions::default());
+    let SolveError::NoProgress { t, .. } = err else {
+        panic!("expected NoProgress, got {err}");
+    };
+    let message = err.to_string();
+    let (head, ratio, tail) = split_ratio(&message);
+    // At the toggle the four joints lie on the x axis: their x rows sum to the loop's
+    // x-closure, which no longer constrains anything independent of the others, with equal
+    // shares 1/√4 = 0.50 of the dependence. The stall is ~1.5e-6 s (4e-5 rad of crank) from the
+    // toggle, where σ_min/σ_max ~ √(distance) · L-scaling (measured 4.9e-7); below 1e-5 says
+    // the rows are dependent to the digits the message shows.
+    assert_eq!(
+        head,
+        format!(
+            "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by 9.977e-8 s (mean step 9.977e-11 s); reaching t_end at this pace needs about 1.2e9 more attempts. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model. At t = {t:.9} s: the constraint rows \"O2.x\" (0.50), \"A.x\" (0.50), \"B.x\" (0.50), \"O4.x\" (0.50) are nearly dependent: the linkage is at or near a singular position (σ_min/σ_max = "
+        )
+    );
+    assert!(ratio < 1e-5, "σ_min/σ_max = {ratio:e} at the toggle");
+    assert_eq!(
+        tail,
+        " of the scaled constraint Jacobian; in parentheses each row's share |u_i| of the dependence)"
+    );
+    // The toggle is at θ2 = π: t = π/ω = 0.12 s at 250 rpm.
+    assert!(
+        (t - 0.12).abs() < 1e-4,
+        "stalled at t = {t} s, toggle at 0.12 s"
+    );
+}
+
+#[test]
+fn the_generalized_diagnosis_names_the_ill_conditioned_partition_near_a_toggle() {
+    // Integrated to just before the toggle, where the one dependent block left (the driver
+    // makes the linkage rigid: no independent coordinate) loses rank with Φ_q itself.
+    let model = toggle();
+    let mut generalized = linkdyn::formulation::Generalized::new(&model, &DaeOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let y0 = generalized.initial_state();
+    let t_end = 0.12 - 1.5e-6;
+    let y = {
+        let mut s = Stepper::new(&mut generalized, 0.0, &y0, t_end, &SolverOptions::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        while s.step().unwrap_or_else(|e| panic!("{e}")) != Stop::EndReached {}
+        s.y().to_vec()
+    };
+    let message = generalized
+        .diagnose(t_end, &y)
+        .unwrap_or_else(|| panic!("no diagnosis 1.5e-6 s before the toggle"));
+    // The pivot ratio (≈ 1/cond of the dependent block) is of the order of σ_min/σ_max, far
+    // below the 1e-3 that makes a block "ill-conditioned".
+    let (head, _, tail) = split_ratio(&message);
+    assert!(
+        head.starts_with(
+            "the coordinate partition is ill-conditioned (independent coordinates none: the drivers fix every coordinate; pivot ratio of the dependent block "
+        ),
+        "{message}"
+    );
+    assert!(
+        head.ends_with("; the constraint rows \"O2.x\" (0.50), \"A.x\" (0.50), \"B.x\" (0.50), \"O4.x\" (0.50) are nearly dependent: the linkage is at or near a singular position (σ_min/σ_max = "),
+        "{message}"
+    );
+    assert_eq!(
+        tail,
+        " of the scaled constraint Jacobian; in parentheses each row's share |u_i| of the dependence)"
+    );
 }

@@ -36,6 +36,14 @@ class Model:
     def notes(self) -> List[str]:
         """Things to know that are not errors (the CLI's ``note:`` lines), one sentence each."""
     @property
+    def parameters(self) -> Dict[str, float]:
+        """The ``[parameters]`` table as evaluated after the load-time overrides
+        (``set={"parameters.N": 5}``): name → value; empty without parameters."""
+    @property
+    def outputs(self) -> List[str]:
+        """Names of the output points (``[[outputs]]``), in order; each adds the result
+        columns ``P.x P.y P.vx P.vy P.ax P.ay`` (m, m/s, m/s², global frame)."""
+    @property
     def sha256(self) -> str:
         """SHA-256 of the model file (hex), as recorded in every result's provenance."""
     @property

@@ -61,6 +61,24 @@ impl PyModel {
         self.model.notes.clone()
     }
 
+    /// Parameters of the model file's `[parameters]` table as evaluated, after the load-time
+    /// overrides (`set={"parameters.N": 5}`): name → value (SI, as the expressions use them).
+    #[getter]
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (name, value) in &self.model.parameters {
+            d.set_item(name, value)?;
+        }
+        Ok(d)
+    }
+
+    /// Output points (`[[outputs]]`): their names, in order; each adds the result columns
+    /// `P.x P.y P.vx P.vy P.ax P.ay` (m, m/s, m/s², global frame).
+    #[getter]
+    fn outputs(&self) -> Vec<String> {
+        self.model.outputs.iter().map(|o| o.name.clone()).collect()
+    }
+
     /// SHA-256 of the model file (hex), as recorded in every result's provenance.
     #[getter]
     fn sha256(&self) -> &str {
@@ -189,38 +207,22 @@ impl PyModel {
     }
 
     /// Integrates the model and keeps every sample in memory (`linkdyn run`): end time
-    /// `t_end` (s) or `revs` driver turns (default 2), samples every `dt` s, `formulation`
-    /// "dae" or "reduced", `method` "dop853" or "dopri5", tolerances `rtol`/`atol`, `energy`
-    /// bookkeeping (DAE only), at most `max_steps` step attempts and `max_wall` s. Returns a
+    /// `t_end` (s) or `revs` driver turns (default 2), `energy` bookkeeping, and the solve
+    /// settings ([`Solve::from_kwargs`]): samples every `dt` s, `formulation` "dae",
+    /// "reduced" or "generalized", `method`, tolerances `rtol`/`atol`, at most `max_steps`
+    /// step attempts and `max_wall` s. Returns a
     /// `linkdyn.Result`; the GIL is released for the whole run. Raises `SettingsError`,
     /// `ModelError`, `SolverError`.
-    #[pyo3(signature = (*, t_end = None, revs = None, dt = 1e-4, formulation = "dae".to_string(),
-        method = "dop853".to_string(), rtol = 1e-8, atol = 1e-10, energy = false,
-        max_steps = 10_000_000, max_wall = None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (*, t_end = None, revs = None, energy = false, **solve))]
     fn run(
         &self,
         py: Python<'_>,
         t_end: Option<f64>,
         revs: Option<f64>,
-        dt: f64,
-        formulation: String,
-        method: String,
-        rtol: f64,
-        atol: f64,
         energy: bool,
-        max_steps: u64,
-        max_wall: Option<f64>,
+        solve: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<PyResult_> {
-        let solve = Solve {
-            dt,
-            formulation,
-            method,
-            rtol,
-            atol,
-            max_steps,
-            max_wall,
-        };
+        let solve = Solve::from_kwargs("run", solve)?;
         let model = &self.model;
         // Everything from the settings check to the last sample runs without the GIL: other
         // Python threads (and other runs) go on meanwhile.
@@ -258,10 +260,7 @@ impl PyModel {
     /// Returns a `linkdyn.PoincareSection`; the GIL is released while Rust integrates.
     ///
     /// Raises `SettingsError`, `ModelError`, `SolverError` (with `time`).
-    #[pyo3(signature = (*, revs = None, transient = 0, phase = 0.0, observe = None, dt = 1e-4,
-        formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
-        atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (*, revs = None, transient = 0, phase = 0.0, observe = None, **solve))]
     fn poincare<'py>(
         &self,
         py: Python<'py>,
@@ -269,23 +268,9 @@ impl PyModel {
         transient: i64,
         phase: f64,
         observe: Option<&Bound<'py, PyAny>>,
-        dt: f64,
-        formulation: String,
-        method: String,
-        rtol: f64,
-        atol: f64,
-        max_steps: u64,
-        max_wall: Option<f64>,
+        solve: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let solve = Solve {
-            dt,
-            formulation,
-            method,
-            rtol,
-            atol,
-            max_steps,
-            max_wall,
-        };
+        let solve = Solve::from_kwargs("poincare", solve)?;
         let args = PoincareArgs {
             revs,
             transient,
@@ -313,9 +298,7 @@ impl PyModel {
     /// The model file must be unchanged since `load` and reachable by the path given to it.
     #[pyo3(signature = (param, observe, *, from_ = None, to = None, steps = None, values = None,
         revs = None, transient = 100, phase = 0.0, threads = None, shard = None,
-        progress = Progress::Flag(true), dt = 1e-4, formulation = "dae".to_string(),
-        method = "dop853".to_string(), rtol = 1e-8, atol = 1e-10, max_steps = 10_000_000,
-        max_wall = None))]
+        progress = Progress::Flag(true), **solve))]
     #[allow(clippy::too_many_arguments)]
     fn bifurcation<'py>(
         &self,
@@ -332,23 +315,9 @@ impl PyModel {
         threads: Option<i64>,
         shard: Option<String>,
         progress: Progress,
-        dt: f64,
-        formulation: String,
-        method: String,
-        rtol: f64,
-        atol: f64,
-        max_steps: u64,
-        max_wall: Option<f64>,
+        solve: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let solve = Solve {
-            dt,
-            formulation,
-            method,
-            rtol,
-            atol,
-            max_steps,
-            max_wall,
-        };
+        let solve = Solve::from_kwargs("bifurcation", solve)?;
         let args = SweepArgs {
             param,
             observe,
@@ -372,33 +341,16 @@ impl PyModel {
     /// in the column's unit); the GIL is released while Rust integrates.
     ///
     /// Raises `SettingsError`, `ModelError`, `SolverError`, `AnalysisError` (too few samples).
-    #[pyo3(signature = (observe, *, revs = None, transient = 0.0, dt = 1e-4,
-        formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
-        atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (observe, *, revs = None, transient = 0.0, **solve))]
     fn spectrum<'py>(
         &self,
         py: Python<'py>,
         observe: String,
         revs: Option<f64>,
         transient: f64,
-        dt: f64,
-        formulation: String,
-        method: String,
-        rtol: f64,
-        atol: f64,
-        max_steps: u64,
-        max_wall: Option<f64>,
+        solve: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let solve = Solve {
-            dt,
-            formulation,
-            method,
-            rtol,
-            atol,
-            max_steps,
-            max_wall,
-        };
+        let solve = Solve::from_kwargs("spectrum", solve)?;
         let window = WindowArgs { revs, transient };
         analyses::spectrum(py, &self.model, &self.path, &solve, observe, window)
     }
@@ -408,33 +360,16 @@ impl PyModel {
     /// (`B.phi` → `B.omega`, `B.x` → `B.vx`), else second-order differences. `revs` defaults
     /// to transient + 10. Returns a `linkdyn.PhasePortrait`; the GIL is released while Rust
     /// integrates.
-    #[pyo3(signature = (observe, *, revs = None, transient = 0.0, dt = 1e-4,
-        formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
-        atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (observe, *, revs = None, transient = 0.0, **solve))]
     fn phase<'py>(
         &self,
         py: Python<'py>,
         observe: String,
         revs: Option<f64>,
         transient: f64,
-        dt: f64,
-        formulation: String,
-        method: String,
-        rtol: f64,
-        atol: f64,
-        max_steps: u64,
-        max_wall: Option<f64>,
+        solve: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let solve = Solve {
-            dt,
-            formulation,
-            method,
-            rtol,
-            atol,
-            max_steps,
-            max_wall,
-        };
+        let solve = Solve::from_kwargs("phase", solve)?;
         let window = WindowArgs { revs, transient };
         analyses::phase(py, &self.model, &self.path, &solve, observe, window)
     }
@@ -447,9 +382,7 @@ impl PyModel {
     /// `linkdyn.LyapunovExponent` (λ, its batch-means uncertainty, the running estimate); the
     /// GIL is released while Rust integrates.
     #[pyo3(signature = (*, revs = None, transient = 0.0, d0 = 1e-7, renormalise_every_revs = 1.0,
-        dt = 1e-4, formulation = "dae".to_string(), method = "dop853".to_string(), rtol = 1e-8,
-        atol = 1e-10, max_steps = 10_000_000, max_wall = None))]
-    #[allow(clippy::too_many_arguments)]
+        **solve))]
     fn lyapunov<'py>(
         &self,
         py: Python<'py>,
@@ -457,23 +390,9 @@ impl PyModel {
         transient: f64,
         d0: f64,
         renormalise_every_revs: f64,
-        dt: f64,
-        formulation: String,
-        method: String,
-        rtol: f64,
-        atol: f64,
-        max_steps: u64,
-        max_wall: Option<f64>,
+        solve: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let solve = Solve {
-            dt,
-            formulation,
-            method,
-            rtol,
-            atol,
-            max_steps,
-            max_wall,
-        };
+        let solve = Solve::from_kwargs("lyapunov", solve)?;
         let window = WindowArgs { revs, transient };
         let args = LyapunovArgs {
             d0,

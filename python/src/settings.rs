@@ -4,8 +4,9 @@
 use linkdyn::Error;
 use linkdyn::simulation::{EndTime, FormulationKind, SimulationOptions};
 use linkdyn::solve::{Method, SolveError, SolverOptions};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyString;
+use pyo3::types::{PyDict, PyString};
 
 /// Sampling, formulation and solver settings, as given from Python.
 pub struct Solve {
@@ -25,7 +26,68 @@ pub struct Solve {
     pub max_wall: Option<f64>,
 }
 
+impl Default for Solve {
+    /// The defaults of every method that takes solve settings (the command line's): samples
+    /// every 1e-4 s, the DAE, DOP853, rtol 1e-8, atol 1e-10, 1e7 step attempts, no wall-clock
+    /// limit.
+    fn default() -> Self {
+        Solve {
+            dt: 1e-4,
+            formulation: "dae".to_string(),
+            method: "dop853".to_string(),
+            rtol: 1e-8,
+            atol: 1e-10,
+            max_steps: 10_000_000,
+            max_wall: None,
+        }
+    }
+}
+
 impl Solve {
+    /// The solve settings from the `**solve` keywords of `method` (`run`, `poincare`, …): the
+    /// keywords `dt`, `formulation`, `method`, `rtol`, `atol`, `max_steps`, `max_wall`, each optional with the defaults of [`Solve::default`]
+    /// (`max_wall` may be `None`). One parser instead of the same seven parameters written
+    /// into six signatures (PyO3 has no shared parameter lists). An unknown keyword or a value
+    /// of the wrong type raises `TypeError`, as Python does for a declared parameter.
+    pub fn from_kwargs(method: &str, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Solve> {
+        let mut solve = Solve::default();
+        let Some(kwargs) = kwargs else {
+            return Ok(solve);
+        };
+        for (key, value) in kwargs.iter() {
+            let key: String = key.extract()?;
+            let wrong = |expected: &str| {
+                let kind = value
+                    .get_type()
+                    .name()
+                    .map(|n| n.to_string())
+                    .unwrap_or_else(|_| "object".into());
+                PyTypeError::new_err(format!("{key}=: expected {expected}, got {kind}"))
+            };
+            match key.as_str() {
+                "dt" => solve.dt = value.extract().map_err(|_| wrong("a number (s)"))?,
+                "formulation" => {
+                    solve.formulation = value.extract().map_err(|_| wrong("a string"))?;
+                }
+                "method" => solve.method = value.extract().map_err(|_| wrong("a string"))?,
+                "rtol" => solve.rtol = value.extract().map_err(|_| wrong("a number"))?,
+                "atol" => solve.atol = value.extract().map_err(|_| wrong("a number"))?,
+                "max_steps" => {
+                    solve.max_steps = value.extract().map_err(|_| wrong("a whole number ≥ 0"))?;
+                }
+                "max_wall" => {
+                    solve.max_wall = value.extract().map_err(|_| wrong("a number (s) or None"))?;
+                }
+                _ => {
+                    return Err(PyTypeError::new_err(format!(
+                        "{method}() got an unexpected keyword argument '{key}'"
+                    )));
+                }
+            }
+        }
+        Ok(solve)
+    }
+
     /// The library's options, checked as the command line checks them (the method first, then
     /// the formulation; the rest in `Simulation::new`). The end time is the default (2 turns).
     pub fn options(&self) -> Result<SimulationOptions, Error> {

@@ -795,6 +795,12 @@ impl Formulation for Dae {
         Ok(0)
     }
 
+    /// Near-dependent constraint rows and clearance joints at their contact boundary
+    /// ([`super::diagnosis::dae`]).
+    fn diagnose(&self, t: f64, y: &[f64]) -> Option<String> {
+        super::diagnosis::dae(self, t, y)
+    }
+
     /// With λ as algebraic unknowns ([`super::residual_dae`]).
     fn residual_form(&self) -> Option<Box<dyn super::residual::ResidualForm>> {
         Some(Box::new(super::residual_dae::DaeResidual::new(self)))

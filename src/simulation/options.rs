@@ -2,9 +2,11 @@
 //! written defaults — and their validation against a model.
 
 use crate::error::Error;
-use crate::model::Model;
+use crate::mechanics::drivers::driver_angle;
+use crate::model::{Driver, DriverMotion, ForceElement, Model};
 use crate::solve::{SolveError, SolverOptions};
 use serde::Serialize;
+use std::f64::consts::TAU;
 
 /// Which equations of motion to integrate.
 ///
@@ -178,37 +180,16 @@ impl SimulationOptions {
 pub const MAX_OUTPUT_VALUES: f64 = 1e9;
 
 /// End time (s) of `end` for `model`.
+///
+/// Turns count the driven angle θ(t) of the model's single kinematic driver: t_end = 2π·turns/|ω|
+/// for a constant speed ω and for a speed ramp (at its final speed ω1, as documented in
+/// docs/model_format.md); for a prescribed angle, the first time at which |θ(t) − θ(0)| reaches
+/// 2π·turns (`prescribed_turns_time`). A torque driver's angle is an outcome of the run, not
+/// known before it: such a model is refused with the advice to give `t_end`.
 pub fn end_time(model: &Model, end: EndTime) -> Result<f64, Error> {
     let t = match end {
         EndTime::Seconds(t) => t,
-        EndTime::DriverTurns(turns) => {
-            let [driver] = model.drivers.as_slice() else {
-                return Err(Error::settings(
-                    "revs",
-                    format!(
-                        "counts turns of the single driver, but model \"{}\" has {} drivers: give `t_end`",
-                        model.name,
-                        model.drivers.len()
-                    ),
-                ));
-            };
-            if driver.speed == 0.0 {
-                return Err(Error::settings(
-                    "revs",
-                    format!(
-                        "driver \"{}\" has zero speed: give `t_end` instead",
-                        driver.name
-                    ),
-                ));
-            }
-            if !(turns.is_finite() && turns > 0.0) {
-                return Err(Error::settings(
-                    "revs",
-                    format!("expected a positive, finite number of turns, got {turns}"),
-                ));
-            }
-            turns * 2.0 * std::f64::consts::PI / driver.speed.abs()
-        }
+        EndTime::DriverTurns(turns) => driver_turns_time(model, turns)?,
     };
     if !(t.is_finite() && t > 0.0) {
         return Err(Error::settings(
@@ -217,6 +198,123 @@ pub fn end_time(model: &Model, end: EndTime) -> Result<f64, Error> {
         ));
     }
     Ok(t)
+}
+
+/// t_end for `turns` turns of the single kinematic driver (see [`end_time`]).
+fn driver_turns_time(model: &Model, turns: f64) -> Result<f64, Error> {
+    let motors: Vec<&str> = model
+        .forces
+        .iter()
+        .filter(|f| matches!(f, ForceElement::Motor { .. }))
+        .map(ForceElement::name)
+        .collect();
+    let [driver] = model.drivers.as_slice() else {
+        if let ([], [motor]) = (model.drivers.as_slice(), motors.as_slice()) {
+            return Err(Error::settings(
+                "revs",
+                format!(
+                    "driver \"{motor}\" is a torque driver: how far its crank turns is an outcome of the run, not known before it; give `t_end` (and read the turns from the joint's angle in the results)"
+                ),
+            ));
+        }
+        return Err(Error::settings(
+            "revs",
+            format!(
+                "counts turns of the single driver, but model \"{}\" has {} drivers: give `t_end`",
+                model.name,
+                model.drivers.len()
+            ),
+        ));
+    };
+    if !(turns.is_finite() && turns > 0.0) {
+        return Err(Error::settings(
+            "revs",
+            format!("expected a positive, finite number of turns, got {turns}"),
+        ));
+    }
+    if let DriverMotion::PrescribedAngle(expression) = &driver.motion {
+        return prescribed_turns_time(driver, turns).map_err(|reason| {
+            Error::settings(
+                "revs",
+                format!(
+                    "driver \"{}\" prescribes θ(t) = {}: {reason}; give `t_end` instead",
+                    driver.name, expression.text
+                ),
+            )
+        });
+    }
+    if driver.speed == 0.0 {
+        return Err(Error::settings(
+            "revs",
+            format!(
+                "driver \"{}\" has zero speed: give `t_end` instead",
+                driver.name
+            ),
+        ));
+    }
+    Ok(turns * TAU / driver.speed.abs())
+}
+
+/// Largest time (s) searched for the turns of a prescribed angle: 1e6 s (11.6 days), far
+/// beyond any run this tool makes.
+pub const PRESCRIBED_TURNS_HORIZON: f64 = 1e6;
+
+/// Largest angle change (rad) per search step, estimated from θ̇: 0.05 rad, so that a
+/// crossing of the target and back within one step needs |θ̈| h² ≳ 0.1 rad.
+const SEARCH_ANGLE_STEP: f64 = 0.05;
+
+/// Most search steps (a θ(t) that crawls is refused after these).
+const MAX_SEARCH_STEPS: usize = 1_000_000;
+
+/// The first time t > 0 at which |θ(t) − θ(0)| = 2π·turns for a prescribed angle θ(t):
+/// marched from t = 0 with steps of at most 0.05 rad of angle (estimated from the exact θ̇ of
+/// the expression's jet, each step at most doubling the last, from 1e-6 s), up to
+/// [`PRESCRIBED_TURNS_HORIZON`] or 1e6 steps, whichever comes first; the crossing is then
+/// bisected to the resolution of t.
+/// Err: why no such time was found (θ stays below the target, or is not finite).
+pub fn prescribed_turns_time(driver: &Driver, turns: f64) -> Result<f64, String> {
+    let target = turns * TAU;
+    let theta0 = driver_angle(driver, 0.0)[0];
+    let travelled = |t: f64| (driver_angle(driver, t)[0] - theta0).abs();
+    let (mut t, mut h, mut reached) = (0.0_f64, 1e-6_f64, 0.0_f64);
+    for _ in 0..MAX_SEARCH_STEPS {
+        let [theta, omega, _] = driver_angle(driver, t);
+        if !(theta.is_finite() && omega.is_finite()) {
+            return Err(format!("θ or θ̇ is not finite at t = {t} s"));
+        }
+        let by_angle = if omega == 0.0 {
+            f64::INFINITY
+        } else {
+            SEARCH_ANGLE_STEP / omega.abs()
+        };
+        h = by_angle.min(2.0 * h).max(1e-9);
+        let next = (t + h).min(PRESCRIBED_TURNS_HORIZON);
+        let d = travelled(next);
+        if d >= target {
+            // Bisection on [t, next]: |θ − θ0| < target at t, ≥ target at next.
+            let (mut lo, mut hi) = (t, next);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if mid <= lo || mid >= hi {
+                    break;
+                }
+                if travelled(mid) >= target {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return Ok(hi);
+        }
+        reached = reached.max(d);
+        if next >= PRESCRIBED_TURNS_HORIZON {
+            break;
+        }
+        t = next;
+    }
+    Err(format!(
+        "|θ(t) − θ(0)| does not reach {turns} turn(s) ({target:.6} rad) by t = {t:.6e} s, where the search stopped (at most {reached:.6} rad)"
+    ))
 }
 
 /// Checks the output interval and the output size of a run of `columns` columns to `t_end`.

@@ -48,7 +48,7 @@ pub enum SolveError {
 
     /// The run stopped making progress: over the last attempts the step size collapsed so far
     /// that t_end could not be reached within `max_steps` (see `solve::progress`).
-    #[error("{}", no_progress_message(*t, *h, *advance, *attempts, *projected, *stiff, implicit))]
+    #[error("{}", no_progress_message(*t, *h, *advance, *attempts, *projected, *stiff, implicit, diagnosis.as_deref()))]
     NoProgress {
         /// Time reached (s).
         t: f64,
@@ -64,6 +64,10 @@ pub enum SolveError {
         stiff: bool,
         /// Implicit methods available to suggest (`"a" or "b"`; empty if none).
         implicit: String,
+        /// What the formulation found at the stall state
+        /// ([`Formulation::diagnose`](crate::formulation::Formulation::diagnose)): the
+        /// constraints or joints involved; `None` if it found nothing.
+        diagnosis: Option<String>,
     },
 
     /// The step size fell below the resolution of t (16 machine epsilons of max(|t|, |t_end|)):
@@ -173,7 +177,9 @@ pub enum SolveError {
     },
 }
 
-/// The message of [`SolveError::NoProgress`].
+/// The message of [`SolveError::NoProgress`]: the pace, the cause the method can tell
+/// (stiff or collapsed), then the formulation's diagnosis if it has one.
+#[allow(clippy::too_many_arguments)] // the variant's fields, one by one (thiserror's format)
 fn no_progress_message(
     t: f64,
     h: f64,
@@ -182,11 +188,12 @@ fn no_progress_message(
     projected: f64,
     stiff: bool,
     implicit: &str,
+    diagnosis: Option<&str>,
 ) -> String {
     let head = format!(
         "no progress at t = {t:.9} s: the last {attempts} step attempts advanced t by {advance:.3e} s (mean step {h:.3e} s); reaching t_end at this pace needs about {projected:.1e} more attempts"
     );
-    if stiff {
+    let cause = if stiff {
         let advice = if implicit.is_empty() {
             "an implicit method (none is built into this version)".to_string()
         } else {
@@ -199,6 +206,10 @@ fn no_progress_message(
         format!(
             "{head}. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model"
         )
+    };
+    match diagnosis {
+        Some(d) => format!("{cause}. At t = {t:.9} s: {d}"),
+        None => cause,
     }
 }
 

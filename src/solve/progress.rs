@@ -117,6 +117,8 @@ impl Progress {
                 projected,
                 stiff: at.stiff,
                 implicit: implicit_methods(),
+                // Filled in by the driver, which holds the state (`Stepper::advance`).
+                diagnosis: None,
             });
         }
         Ok(())

@@ -2,7 +2,8 @@
 //!
 //! The method (chosen by [`SolverOptions::method`]) owns stepping, error control and dense
 //! output; the driver owns everything around it: the clamps of the step size, events and
-//! restarts, the limits (`max_steps`, `max_wall`, the no-progress rule of `progress.rs`, the
+//! restarts, the limits (`max_steps`, `max_wall`, the no-progress rule of `progress.rs` — its
+//! error completed with the formulation's [`Formulation::diagnose`] at the stall state — the
 //! step floor), NaN checks and the formulation's check of every accepted step end
 //! ([`Formulation::accept_step`]) (see [`Integrator`] for the contract).
 //!
@@ -355,13 +356,15 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             if attempts >= self.opts.max_steps {
                 return Err(SolveError::TooManySteps { t, steps: attempts });
             }
-            self.progress.before_attempt(&AttemptAt {
-                t,
-                t_end: self.t_end,
-                attempts,
-                max_steps: self.opts.max_steps,
-                stiff: self.integrator.stiffness_detected(),
-            })?;
+            self.progress
+                .before_attempt(&AttemptAt {
+                    t,
+                    t_end: self.t_end,
+                    attempts,
+                    max_steps: self.opts.max_steps,
+                    stiff: self.integrator.stiffness_detected(),
+                })
+                .map_err(|e| self.with_diagnosis(e))?;
             let last = remaining <= 1.01 * h && remaining <= cap_other;
             if last {
                 h = remaining;
@@ -425,6 +428,33 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             self.stats.record_step(h);
             self.h_next = if adaptive { h_next } else { h };
             return Ok(true);
+        }
+    }
+
+    /// A no-progress error completed with the formulation's diagnosis at the stall state
+    /// (t, y) ([`Formulation::diagnose`]); other errors pass unchanged.
+    fn with_diagnosis(&self, e: SolveError) -> SolveError {
+        match e {
+            SolveError::NoProgress {
+                t,
+                h,
+                advance,
+                attempts,
+                projected,
+                stiff,
+                implicit,
+                diagnosis: None,
+            } => SolveError::NoProgress {
+                t,
+                h,
+                advance,
+                attempts,
+                projected,
+                stiff,
+                implicit,
+                diagnosis: self.f.diagnose(self.t, &self.y),
+            },
+            other => other,
         }
     }
 

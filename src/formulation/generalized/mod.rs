@@ -150,6 +150,8 @@ pub struct Generalized {
     energy: bool,
     /// Largest |Φ| over the accepted step ends (m or rad).
     max_step_violation: f64,
+    /// Repartitions made so far (see [`Generalized::repartitions`]).
+    repartitions: usize,
     work: RefCell<Work>,
 }
 
@@ -225,6 +227,7 @@ impl Generalized {
             contacts: ContactSites::from_model(model),
             energy: options.energy,
             max_step_violation: 0.0,
+            repartitions: 0,
         })
     }
 
@@ -241,6 +244,13 @@ impl Generalized {
     /// Degrees of freedom: coordinates − active constraint rows.
     pub fn dof(&self) -> usize {
         self.n_coordinates() - self.active.len()
+    }
+
+    /// Number of repartitions made so far: repartition events (falling g_rep) that chose a new
+    /// set of independent coordinates and restarted the integrator. Kept across runs of the
+    /// same value (a clone starts from the count of its original).
+    pub fn repartitions(&self) -> usize {
+        self.repartitions
     }
 
     /// Index of the repartition event (after the clearance joints' δ events).
@@ -731,6 +741,7 @@ impl Formulation for Generalized {
             return EventResponse::Continue;
         }
         y[flags_at..flags_at + n].copy_from_slice(&flags);
+        self.repartitions += 1;
         let mut k = 0;
         for (c, &flag) in flags.iter().enumerate() {
             if flag != 0.0 && k < f {
@@ -757,6 +768,44 @@ impl Formulation for Generalized {
         drop(work);
         self.max_step_violation = self.max_step_violation.max(residual);
         Ok(())
+    }
+
+    /// The partition's condition (current and best pivot ratio, the independent coordinates
+    /// by name), then the DAE's diagnosis at the projected state
+    /// ([`super::diagnosis::generalized`]).
+    fn diagnose(&self, t: f64, y: &[f64]) -> Option<String> {
+        let start = self.dae_start();
+        let stored = y.get(start..start + self.n_dae)?;
+        let mut work = self.work.borrow_mut();
+        let projected = self.project_into(t, y, &mut work);
+        if projected.is_err() {
+            work.y.copy_from_slice(stored);
+        }
+        self.evaluate_at_projection(t, &mut work);
+        let (current, best) = self.partition_quality(&mut work);
+        let model = self.dae.model();
+        let independent = self
+            .independent(y)
+            .iter()
+            .map(|&c| {
+                let body = model.bodies.get(c / 3).map_or("?", |b| b.name.as_str());
+                format!("{body}.{}", ["x", "y", "phi"][c % 3])
+            })
+            .collect::<Vec<_>>();
+        let independent = if independent.is_empty() {
+            "none: the drivers fix every coordinate".to_string()
+        } else {
+            independent.join(", ")
+        };
+        let state = work.y.clone();
+        drop(work);
+        super::diagnosis::generalized(
+            &self.dae,
+            t,
+            projected.as_ref().map(|()| state.as_slice()),
+            stored,
+            Some((current, best, independent)),
+        )
     }
 
     /// The DAE's grazing guard at the projected state.
