@@ -192,6 +192,11 @@ impl Dae {
         self.work.borrow().schur.is_skyline()
     }
 
+    /// Entries stored for the Schur complement's factor (m² dense; the envelope for the skyline).
+    pub fn schur_stored_entries(&self) -> usize {
+        self.work.borrow().schur.stored_entries()
+    }
+
     /// The model.
     pub fn model(&self) -> &Model {
         &self.model
