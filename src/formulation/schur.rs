@@ -10,7 +10,7 @@
 //! Two storages (see [`SchurSolver`]):
 //!
 //! * **dense**: the m × m lower triangle in row order and the hand-written Cholesky of
-//!   [`super::cholesky`]: fastest for the few rows of a single loop (m ≲ 30), cubic beyond;
+//!   [`super::cholesky`]: as fast for the few rows of one or two loops, cubic beyond;
 //! * **skyline** (envelope, profile): the rows renumbered once by reverse Cuthill–McKee (ref. 1)
 //!   so that the non-zeros gather near the diagonal, then row i of the factor L stored from its
 //!   first structural non-zero f_i to the diagonal. Cholesky fills only inside this envelope
@@ -32,10 +32,13 @@ use super::cholesky;
 use crate::mechanics::constraints::ConstraintRow;
 use std::collections::VecDeque;
 
-/// Number of rows up to which [`SchurSolver::Auto`] takes the dense Cholesky: measured crossover
-/// on the chains of parallel four-bars (`benches/many_bodies.rs`, "Hundreds of bodies" in
-/// `docs/measurements.md`): the two are level near m = 32 and the skyline wins above.
-pub const DENSE_MAX_ROWS: usize = 32;
+/// Number of rows up to which [`SchurSolver::Auto`] takes the dense Cholesky. Measured on chains
+/// of parallel four-bars ("Hundreds of bodies" in `docs/measurements.md`), form + factor +
+/// solve: 0.5–0.8 µs dense against 0.4–0.6 µs skyline at m = 8, 1.0–1.2 against 0.9 µs at
+/// m = 14, 2.0 against 1.3 µs at m = 20, 6 against 2.4 µs at m = 32. Up to 16 rows (every
+/// single- and double-loop model shipped) the two are within a fraction of a microsecond, and
+/// the dense path keeps those models' arithmetic exactly as it was; above, the skyline.
+pub const DENSE_MAX_ROWS: usize = 16;
 
 /// Which storage and factorisation of S to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
