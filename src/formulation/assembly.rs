@@ -11,7 +11,7 @@
 //! The minimum-norm solution of Φ_q x = r is x = Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ r where the rows are
 //! independent. Φ_q Φ_qᵀ is the Schur complement of [`super::schur`] with M = I: sparse, its
 //! structure worked out once per assembly, factored by Cholesky at each Newton iteration in
-//! O(m) for a chain. (Up to [`super::schur::DENSE_MAX_ROWS`] rows, a single loop, the dense
+//! O(m) for a chain. (Up to [`super::schur::DENSE_MAX_ROWS`] rows (one or two loops), the dense
 //! SVD below is used throughout: it costs microseconds there and keeps the small models'
 //! assembled states bit for bit.) Redundant rows make it singular, so it is factored with the diagonal
 //! raised by the relative shift [`LEAST_NORM_SHIFT`] (Levenberg–Marquardt's regularisation,
@@ -92,7 +92,7 @@ const LEAST_NORM_RESIDUAL: f64 = 1e-6;
 
 /// The minimum-norm solution x = Φ_qᵀ (Φ_q Φ_qᵀ + shift)⁻¹ r of Φ_q x = r over the rows of
 /// `eval` (see the module doc), with `normal` prepared for those rows; the dense SVD's
-/// pseudo-inverse for the few rows of a single loop (where `normal` is dense), and its
+/// pseudo-inverse for the few rows of one or two loops (where `normal` is dense), and its
 /// least-squares solution where the shifted Φ_q Φ_qᵀ does not factor or r is not in
 /// the range of Φ_q (to [`LEAST_NORM_RESIDUAL`]).
 fn least_norm(normal: &mut Schur, eval: &ConstraintEval, r: &[f64], n: usize) -> Option<Vec<f64>> {
@@ -101,7 +101,7 @@ fn least_norm(normal: &mut Schur, eval: &ConstraintEval, r: &[f64], n: usize) ->
     let unit = vec![1.0; n];
     let mut lambda = r.to_vec();
     let mut x = vec![0.0; n];
-    // A few rows (one loop): the dense SVD costs microseconds, and keeping it keeps the
+    // A few rows (one or two loops): the dense SVD costs microseconds, and keeping it keeps the
     // assembled state of the shipped small models bit for bit (a clearance run at 3500 rpm
     // carries a 1e-17 change of the initial state to 1e-8 rad by its impacts).
     if normal.is_skyline()
