@@ -10,7 +10,8 @@
 //! so that the constraint error obeys Φ̈ + 2αΦ̇ + β²Φ = 0 (ref. 1). M is diagonal, so λ follows
 //! from the Schur complement S λ = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), S = Φ_q M⁻¹ Φ_qᵀ (SPD when
 //! the rows are independent; redundant rows found at assembly are left out), factored by
-//! Cholesky each evaluation; then q̈ = M⁻¹ (Q − Φ_qᵀ λ).
+//! Cholesky each evaluation ([`super::schur`]: dense for a few rows, skyline over a
+//! reverse Cuthill–McKee order computed once for many); then q̈ = M⁻¹ (Q − Φ_qᵀ λ).
 //!
 //! Sign conventions: −Φ_qᵀ λ is the constraint force. The reaction of a joint reported on its
 //! second body b is −(∂Φ/∂r_b)ᵀ λ over the joint's rows; a driver's torque on body b is −λ.
@@ -29,7 +30,7 @@ use crate::mechanics::planar::{point_acceleration, point_state};
 use crate::model::{Baumgarte, Frame, JointKind, Model};
 use std::cell::RefCell;
 
-use super::cholesky;
+use super::schur::{Schur, SchurSolver};
 
 mod jacobian;
 
@@ -72,9 +73,8 @@ struct Work {
     sin_cos: Vec<(f64, f64)>,
     forces: Vec<f64>,
     constraints: ConstraintEval,
-    schur: Vec<f64>,
-    /// M⁻¹ times each active row's two Jacobian blocks.
-    weighted: Vec<[[f64; 3]; 2]>,
+    /// S = Φ_q M⁻¹ Φ_qᵀ over the active rows: structure fixed at construction, values per call.
+    schur: Schur,
     lambda: Vec<f64>,
     /// Rates of the energy states: driver power, external power, dissipation (W).
     energy_rates: [f64; 3],
@@ -91,8 +91,6 @@ pub struct Dae {
     constraints: ConstraintSet,
     /// Rows used in the dynamics (all but the redundant ones).
     active: Vec<usize>,
-    /// Pairs of active-row blocks that share a body: the non-zeros of S.
-    couplings: Vec<Coupling>,
     /// Rows left out as combinations of earlier rows.
     redundant: Vec<usize>,
     applied: AppliedForces,
@@ -148,9 +146,9 @@ impl Dae {
             .collect();
         let nb = model.bodies.len();
         let ma = active.len();
+        let schur = schur_at(&constraints, &active, &assembly, SchurSolver::Auto);
         let mut dae = Dae {
             model: model.clone(),
-            couplings: couplings(&constraints, &active, &assembly),
             active,
             redundant,
             applied: AppliedForces::from_model(model),
@@ -166,8 +164,7 @@ impl Dae {
                 sin_cos: vec![(0.0, 1.0); nb],
                 forces: vec![0.0; 3 * nb],
                 constraints: ConstraintEval::with_rows(m),
-                schur: vec![0.0; ma * ma],
-                weighted: vec![[[0.0; 3]; 2]; ma],
+                schur,
                 lambda: vec![0.0; ma],
                 energy_rates: [0.0; 3],
                 last_t: f64::NAN,
@@ -181,6 +178,25 @@ impl Dae {
             dae.initial_energy = kinetic + potential + elastic;
         }
         Ok(dae)
+    }
+
+    /// Chooses how the Schur complement is stored and factored (default
+    /// [`SchurSolver::Auto`]); the same accelerations to round-off either way.
+    #[must_use]
+    pub fn with_schur_solver(self, solver: SchurSolver) -> Self {
+        let schur = schur_at(&self.constraints, &self.active, &self.assembly, solver);
+        self.work.borrow_mut().schur = schur;
+        self
+    }
+
+    /// The Schur complement's storage in use (see [`Dae::with_schur_solver`]).
+    pub fn schur_is_skyline(&self) -> bool {
+        self.work.borrow().schur.is_skyline()
+    }
+
+    /// Entries stored for the Schur complement's factor (m² dense; the envelope for the skyline).
+    pub fn schur_stored_entries(&self) -> usize {
+        self.work.borrow().schur.stored_entries()
     }
 
     /// The model.
@@ -254,50 +270,33 @@ impl Dae {
         self.constraints
             .evaluate_into(t, q, v, &work.sin_cos, &mut work.constraints);
 
-        let ma = self.active.len();
         let ce = &work.constraints;
         let Baumgarte { alpha, beta } = self.baumgarte;
-        // W = M⁻¹ Φ_qᵀ by row blocks, and the right-hand side Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ).
+        // S = Φ_q M⁻¹ Φ_qᵀ over its structural non-zeros, factored in place.
+        if let Err(k) = work
+            .schur
+            .factor(&ce.rows, &self.active, &self.inv_mass, 0.0)
+        {
+            return Err(FormulationError::SingularConstraints {
+                t,
+                constraint: self.constraints.row_name(&self.model, self.active[k]),
+            });
+        }
+        // The right-hand side Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), with W = M⁻¹ Φ_qᵀ by row blocks.
         for (i, &ri) in self.active.iter().enumerate() {
             let row = &ce.rows[ri];
             let mut rhs = -(ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri]);
-            for (side, (body, jac)) in [(row.body_a, &row.jac_a), (row.body_b, &row.jac_b)]
-                .into_iter()
-                .enumerate()
-            {
-                let w = &mut work.weighted[i][side];
-                match body {
-                    Some(b) => {
-                        for c in 0..3 {
-                            w[c] = jac[c] * self.inv_mass[3 * b + c];
-                            rhs += w[c] * work.forces[3 * b + c];
-                        }
+            let w = &work.schur.weighted()[i];
+            for (side, body) in [row.body_a, row.body_b].into_iter().enumerate() {
+                if let Some(b) = body {
+                    for c in 0..3 {
+                        rhs += w[side][c] * work.forces[3 * b + c];
                     }
-                    None => *w = [0.0; 3],
                 }
             }
             work.lambda[i] = rhs;
         }
-        // S = Φ_q M⁻¹ Φ_qᵀ, lower triangle (all Cholesky reads), over the precomputed pairs of
-        // row blocks that share a body: the other entries are structurally zero.
-        work.schur.fill(0.0);
-        for p in &self.couplings {
-            let w = &work.weighted[p.i][p.side_i];
-            let row_j = &ce.rows[self.active[p.j]];
-            let jac = if p.side_j == 0 {
-                &row_j.jac_a
-            } else {
-                &row_j.jac_b
-            };
-            work.schur[p.i * ma + p.j] += w[0] * jac[0] + w[1] * jac[1] + w[2] * jac[2];
-        }
-        if let Err(pivot) = cholesky::factor(&mut work.schur, ma) {
-            return Err(FormulationError::SingularConstraints {
-                t,
-                constraint: self.constraints.row_name(&self.model, self.active[pivot]),
-            });
-        }
-        cholesky::solve(&work.schur, ma, &mut work.lambda);
+        work.schur.solve(&mut work.lambda);
         // q̈ = M⁻¹ (Q − Φ_qᵀ λ).
         acc.copy_from_slice(&work.forces);
         for (i, &ri) in self.active.iter().enumerate() {
@@ -548,40 +547,18 @@ impl Outputs for Dae {
     }
 }
 
-/// Active rows i ≥ j whose Jacobian blocks `side_i` and `side_j` (0 = body a, 1 = body b) act on
-/// the same body: S_ij gets their weighted product.
-#[derive(Debug, Clone, Copy)]
-struct Coupling {
-    i: usize,
-    j: usize,
-    side_i: usize,
-    side_j: usize,
-}
-
-/// The couplings of the active rows; which bodies a row touches does not change with q.
-fn couplings(set: &ConstraintSet, active: &[usize], assembly: &Assembly) -> Vec<Coupling> {
+/// The Schur complement of the active rows, its structure read from the rows at the assembled
+/// state (which bodies a row touches does not change with q).
+fn schur_at(
+    set: &ConstraintSet,
+    active: &[usize],
+    assembly: &Assembly,
+    solver: SchurSolver,
+) -> Schur {
     let mut eval = ConstraintEval::with_rows(set.n_rows());
     let sin_cos = sin_cos_of(&assembly.q);
     set.evaluate_into(0.0, &assembly.q, &assembly.v, &sin_cos, &mut eval);
-    let bodies = |k: usize| [eval.rows[active[k]].body_a, eval.rows[active[k]].body_b];
-    let mut out = Vec::new();
-    for i in 0..active.len() {
-        for j in 0..=i {
-            for (side_i, bi) in bodies(i).into_iter().enumerate() {
-                for (side_j, bj) in bodies(j).into_iter().enumerate() {
-                    if bi.is_some() && bi == bj {
-                        out.push(Coupling {
-                            i,
-                            j,
-                            side_i,
-                            side_j,
-                        });
-                    }
-                }
-            }
-        }
-    }
-    out
+    Schur::new(&eval.rows, active, solver)
 }
 
 /// Smallest length scale (m) used for the violation bound, for a linkage whose points all

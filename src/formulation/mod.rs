@@ -15,6 +15,7 @@ pub mod jacobian;
 pub mod reduced_lagrangian;
 pub mod residual;
 pub mod residual_dae;
+pub mod schur;
 
 pub use dae::{Dae, DaeOptions};
 pub use generalized::Generalized;

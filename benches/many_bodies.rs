@@ -1,0 +1,52 @@
+//! Hundreds of bodies: one DAE right-hand-side evaluation on chains of parallel four-bars
+//! (`models/parallel_fourbar_chain.toml` with N = 5, 50, 200 loops: 11, 101 and 401 bodies,
+//! 32, 302 and 1202 constraint rows), with the Schur complement dense and skyline.
+//!
+//! Run: `cargo bench --bench many_bodies`. The dense factorisation of the 401-body chain takes
+//! about a second per call on the 2-core machine, so the group keeps 20 samples and a 2 s target.
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use linkdyn::formulation::schur::SchurSolver;
+use linkdyn::formulation::{Dae, DaeOptions, Formulation};
+use std::hint::black_box;
+use std::time::Duration;
+
+/// The chain of `loops` parallel four-bars, assembled.
+fn chain(loops: usize) -> Dae {
+    let set = [format!("parameters.N={loops}")];
+    let model = linkdyn::model::load("models/parallel_fourbar_chain.toml".as_ref(), &set)
+        .unwrap_or_else(|e| panic!("{e}"));
+    Dae::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn rhs(c: &mut Criterion) {
+    let mut group = c.benchmark_group("parallel_fourbar_chain_rhs");
+    group
+        .sample_size(20)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    for loops in [5, 50, 200] {
+        let base = chain(loops);
+        let bodies = base.model().bodies.len();
+        for (name, solver) in [
+            ("dense", SchurSolver::Dense),
+            ("skyline", SchurSolver::Skyline),
+        ] {
+            let dae = base.clone().with_schur_solver(solver);
+            let y = dae.initial_state();
+            let mut dy = vec![0.0; y.len()];
+            group.bench_with_input(BenchmarkId::new(name, bodies), &bodies, |b, _| {
+                b.iter(|| dae.rhs(black_box(0.01), black_box(&y), &mut dy))
+            });
+        }
+    }
+    group.finish();
+}
+
+// No plots: criterion's plotters backend finds no system font on the build machines.
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = rhs
+}
+criterion_main!(benches);

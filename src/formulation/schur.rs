@@ -1,0 +1,479 @@
+//! The Schur complement S = Φ_q M⁻¹ Φ_qᵀ of a set of constraint rows: formed over its
+//! structural non-zeros, factored by Cholesky, solved in place, without allocating.
+//!
+//! Row k of Φ_q has two 3-blocks, one per body it touches, so S_ij ≠ 0 only where rows i and j
+//! share a body. Which bodies a row touches does not change with q, so the sparsity of S (the
+//! pairs of blocks that meet, and where each lands in the factor) is worked out once, at
+//! [`Schur::new`]; every evaluation then only sums the 3-vector products
+//! S_ij = Σ (M⁻¹ Φ_q,i)ᵀ Φ_q,j over those pairs, factors and solves.
+//!
+//! Two storages (see [`SchurSolver`]):
+//!
+//! * **dense**: the m × m lower triangle in row order and the hand-written Cholesky of
+//!   [`super::cholesky`]: as fast for the few rows of one or two loops, cubic beyond;
+//! * **skyline** (envelope, profile): the rows renumbered once by reverse Cuthill–McKee (ref. 1)
+//!   so that the non-zeros gather near the diagonal, then row i of the factor L stored from its
+//!   first structural non-zero f_i to the diagonal. Cholesky fills only inside this envelope
+//!   (ref. 2, §4.2), so the factor costs Σ_i (i − f_i)² / 2 multiply-adds: linear in m for a
+//!   chain of loops, whose envelope width stays a few rows however long the chain.
+//!
+//! A pivot that is not positive (relative 1e-13 of its diagonal, as in [`super::cholesky`])
+//! reports its row, in the caller's numbering: the row that is, to working precision, a
+//! combination of the rows eliminated before it (in row order for the dense storage, in the
+//! reverse Cuthill–McKee order for the skyline).
+//!
+//! # References
+//! 1. A. George, J. W. H. Liu, *Computer Solution of Large Sparse Positive Definite Systems*,
+//!    Prentice-Hall, 1981, §4.3 (reverse Cuthill–McKee, pseudo-peripheral nodes).
+//! 2. A. Jennings, A compact storage scheme for the solution of symmetric linear simultaneous
+//!    equations, *The Computer Journal* 9 (1966) 281–285.
+
+use super::cholesky;
+use crate::mechanics::constraints::ConstraintRow;
+use std::collections::VecDeque;
+
+/// Number of rows up to which [`SchurSolver::Auto`] takes the dense Cholesky. Measured on chains
+/// of parallel four-bars ("Hundreds of bodies" in `docs/measurements.md`), form + factor +
+/// solve: 0.5–0.8 µs dense against 0.4–0.6 µs skyline at m = 8, 1.0–1.2 against 0.9 µs at
+/// m = 14, 2.0 against 1.3 µs at m = 20, 6 against 2.4 µs at m = 32. Up to 16 rows (every
+/// single- and double-loop model shipped) the two are within a fraction of a microsecond, and
+/// the dense path keeps those models' arithmetic exactly as it was; above, the skyline.
+pub const DENSE_MAX_ROWS: usize = 16;
+
+/// Which storage and factorisation of S to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+pub enum SchurSolver {
+    /// Dense up to [`DENSE_MAX_ROWS`] rows, skyline above (the default).
+    #[default]
+    Auto,
+    /// Dense Cholesky in row order: cubic in the number of rows.
+    Dense,
+    /// Skyline Cholesky after a reverse Cuthill–McKee renumbering computed once.
+    Skyline,
+}
+
+/// One pair of row blocks that act on the same body: S_ij gets their weighted product.
+#[derive(Debug, Clone, Copy)]
+struct Coupling {
+    /// Row whose weighted block enters (caller's numbering).
+    i: usize,
+    /// Row whose plain block enters.
+    j: usize,
+    /// Block of row i: 0 = body a, 1 = body b.
+    side_i: u8,
+    /// Block of row j.
+    side_j: u8,
+    /// Where S_ij lands in the storage (lower triangle).
+    pos: usize,
+}
+
+/// How S is stored and factored.
+#[derive(Debug, Clone)]
+enum Storage {
+    /// Row-major m × m, lower triangle used.
+    Dense { a: Vec<f64> },
+    /// Envelope storage in the renumbered order: row p holds columns `first[p]..=p` at
+    /// `values[start[p]..start[p + 1]]`.
+    Skyline {
+        /// `perm[p]` = caller's row at position p.
+        perm: Vec<usize>,
+        first: Vec<usize>,
+        start: Vec<usize>,
+        values: Vec<f64>,
+        /// The right-hand side in the renumbered order.
+        x: Vec<f64>,
+    },
+}
+
+/// The Schur complement of a fixed set of constraint rows, ready to be formed and factored at
+/// any q.
+#[derive(Debug, Clone)]
+pub struct Schur {
+    m: usize,
+    storage: Storage,
+    couplings: Vec<Coupling>,
+    /// M⁻¹ times each row's two Jacobian blocks, from the last [`Schur::factor`].
+    weighted: Vec<[[f64; 3]; 2]>,
+    /// Diagonal position of each row (caller's numbering), for the shift of [`Schur::factor`].
+    diagonal: Vec<usize>,
+}
+
+/// The two (body, block) pairs of a row.
+fn blocks(row: &ConstraintRow) -> [(Option<usize>, &[f64; 3]); 2] {
+    [(row.body_a, &row.jac_a), (row.body_b, &row.jac_b)]
+}
+
+impl Schur {
+    /// Prepares S for the rows `rows[active[k]]`, k = 0 … m − 1 (their bodies are read; the
+    /// Jacobian values are not): finds the structural non-zeros and, for the skyline, the
+    /// renumbering and the envelope.
+    pub fn new(rows: &[ConstraintRow], active: &[usize], solver: SchurSolver) -> Self {
+        let m = active.len();
+        let bodies = |k: usize| [rows[active[k]].body_a, rows[active[k]].body_b];
+        // Rows touching each body, to find the pairs without an m² scan.
+        let n_bodies = active
+            .iter()
+            .flat_map(|&r| [rows[r].body_a, rows[r].body_b])
+            .flatten()
+            .max()
+            .map_or(0, |b| b + 1);
+        let mut on_body: Vec<Vec<(usize, u8)>> = vec![Vec::new(); n_bodies];
+        for k in 0..m {
+            for (side, b) in bodies(k).into_iter().enumerate() {
+                if let Some(b) = b {
+                    on_body[b].push((k, side as u8));
+                }
+            }
+        }
+        let mut pairs: Vec<(usize, usize, u8, u8)> = Vec::new();
+        for list in &on_body {
+            for &(i, side_i) in list {
+                for &(j, side_j) in list {
+                    if j <= i {
+                        pairs.push((i, j, side_i, side_j));
+                    }
+                }
+            }
+        }
+        pairs.sort_unstable();
+        let mut adjacency: Vec<Vec<usize>> = vec![Vec::new(); m];
+        for &(i, j, _, _) in &pairs {
+            if i != j {
+                adjacency[i].push(j);
+                adjacency[j].push(i);
+            }
+        }
+        for a in &mut adjacency {
+            a.sort_unstable();
+            a.dedup();
+        }
+        let dense = match solver {
+            SchurSolver::Dense => true,
+            SchurSolver::Skyline => false,
+            SchurSolver::Auto => m <= DENSE_MAX_ROWS,
+        };
+        let (storage, position): (Storage, Box<dyn Fn(usize, usize) -> usize>) = if dense {
+            (
+                Storage::Dense {
+                    a: vec![0.0; m * m],
+                },
+                Box::new(move |i, j| i * m + j),
+            )
+        } else {
+            let natural: Vec<usize> = (0..m).collect();
+            let rcm = reverse_cuthill_mckee(&adjacency);
+            // Keep the row order where it is already as tight (a single loop).
+            let perm = if envelope_size(&adjacency, &rcm) < envelope_size(&adjacency, &natural) {
+                rcm
+            } else {
+                natural
+            };
+            let mut inverse = vec![0; m];
+            for (p, &k) in perm.iter().enumerate() {
+                inverse[k] = p;
+            }
+            let first: Vec<usize> = (0..m)
+                .map(|p| {
+                    adjacency[perm[p]]
+                        .iter()
+                        .map(|&k| inverse[k])
+                        .fold(p, usize::min)
+                })
+                .collect();
+            let mut start = Vec::with_capacity(m + 1);
+            let mut total = 0;
+            for (p, f) in first.iter().enumerate() {
+                start.push(total);
+                total += p - f + 1;
+            }
+            start.push(total);
+            let (first_c, start_c) = (first.clone(), start.clone());
+            (
+                Storage::Skyline {
+                    perm,
+                    first,
+                    start,
+                    values: vec![0.0; total],
+                    x: vec![0.0; m],
+                },
+                Box::new(move |i, j| {
+                    let (a, b) = (inverse[i], inverse[j]);
+                    let (r, c) = (a.max(b), a.min(b));
+                    start_c[r] + c - first_c[r]
+                }),
+            )
+        };
+        let couplings = pairs
+            .iter()
+            .map(|&(i, j, side_i, side_j)| Coupling {
+                i,
+                j,
+                side_i,
+                side_j,
+                pos: position(i, j),
+            })
+            .collect();
+        let diagonal = (0..m).map(|k| position(k, k)).collect();
+        Schur {
+            m,
+            storage,
+            couplings,
+            weighted: vec![[[0.0; 3]; 2]; m],
+            diagonal,
+        }
+    }
+
+    /// Number of rows m.
+    pub fn n_rows(&self) -> usize {
+        self.m
+    }
+
+    /// Whether the skyline storage is in use (else dense).
+    pub fn is_skyline(&self) -> bool {
+        matches!(self.storage, Storage::Skyline { .. })
+    }
+
+    /// Number of stored entries of the factor (m(m+1)/2 … m² for dense, the envelope for the
+    /// skyline).
+    pub fn stored_entries(&self) -> usize {
+        match &self.storage {
+            Storage::Dense { a } => a.len(),
+            Storage::Skyline { values, .. } => values.len(),
+        }
+    }
+
+    /// M⁻¹ times each row's two Jacobian blocks (block order body a, body b; zero for ground),
+    /// as of the last [`Schur::factor`].
+    pub fn weighted(&self) -> &[[[f64; 3]; 2]] {
+        &self.weighted
+    }
+
+    /// Forms S = Φ_q M⁻¹ Φ_qᵀ for the rows `rows[active[k]]` (the same rows as at
+    /// [`Schur::new`], now with their values) and the diagonal inverse mass matrix `inv_mass`
+    /// (3 per body), adds `shift` × its own diagonal to every diagonal entry (a relative
+    /// regularisation; 0 for the plain S, and a zero diagonal then becomes `shift`), and factors
+    /// it. `Err(k)`: the pivot of row k (caller's numbering) is not positive, S is singular to
+    /// working precision there.
+    pub fn factor(
+        &mut self,
+        rows: &[ConstraintRow],
+        active: &[usize],
+        inv_mass: &[f64],
+        shift: f64,
+    ) -> Result<(), usize> {
+        debug_assert_eq!(active.len(), self.m, "the rows given at construction");
+        for (w, &r) in self.weighted.iter_mut().zip(active) {
+            for (side, (body, jac)) in blocks(&rows[r]).into_iter().enumerate() {
+                w[side] = match body {
+                    Some(b) => [
+                        jac[0] * inv_mass[3 * b],
+                        jac[1] * inv_mass[3 * b + 1],
+                        jac[2] * inv_mass[3 * b + 2],
+                    ],
+                    None => [0.0; 3],
+                };
+            }
+        }
+        let values = match &mut self.storage {
+            Storage::Dense { a } => a,
+            Storage::Skyline { values, .. } => values,
+        };
+        values.fill(0.0);
+        for p in &self.couplings {
+            let w = &self.weighted[p.i][p.side_i as usize];
+            let row_j = &rows[active[p.j]];
+            let jac = if p.side_j == 0 {
+                &row_j.jac_a
+            } else {
+                &row_j.jac_b
+            };
+            values[p.pos] += w[0] * jac[0] + w[1] * jac[1] + w[2] * jac[2];
+        }
+        if shift > 0.0 {
+            for &d in &self.diagonal {
+                values[d] += if values[d] == 0.0 {
+                    shift
+                } else {
+                    shift * values[d]
+                };
+            }
+        }
+        match &mut self.storage {
+            Storage::Dense { a } => cholesky::factor(a, self.m),
+            Storage::Skyline {
+                perm,
+                first,
+                start,
+                values,
+                ..
+            } => skyline_factor(first, start, values).map_err(|p| perm[p]),
+        }
+    }
+
+    /// Solves S x = b in place (`b` becomes x, caller's numbering) with the factor of the last
+    /// successful [`Schur::factor`].
+    pub fn solve(&mut self, b: &mut [f64]) {
+        match &mut self.storage {
+            Storage::Dense { a } => cholesky::solve(a, self.m, b),
+            Storage::Skyline {
+                perm,
+                first,
+                start,
+                values,
+                x,
+            } => {
+                for (xp, &k) in x.iter_mut().zip(perm.iter()) {
+                    *xp = b[k];
+                }
+                skyline_solve(first, start, values, x);
+                for (xp, &k) in x.iter().zip(perm.iter()) {
+                    b[k] = *xp;
+                }
+            }
+        }
+    }
+}
+
+/// Envelope Cholesky in place: row p of `values` (columns `first[p]..=p`) becomes row p of L,
+/// with the reciprocal 1/L_pp on the diagonal as in [`cholesky::factor`]. Row-oriented
+/// (ref. 2): L_pj = (S_pj − Σ_{k ≥ max(f_p, f_j)} L_pk L_jk) / L_jj, every sum a dot product of
+/// two contiguous slices. `Err(p)`: the first pivot that is not positive.
+fn skyline_factor(first: &[usize], start: &[usize], values: &mut [f64]) -> Result<(), usize> {
+    for p in 0..first.len() {
+        let fp = first[p];
+        let (done, rest) = values.split_at_mut(start[p]);
+        let row_p = &mut rest[..p - fp + 1];
+        for j in fp..p {
+            let fj = first[j];
+            let lo = fp.max(fj);
+            let row_j = &done[start[j]..start[j] + j - fj + 1];
+            let dot: f64 = row_p[lo - fp..j - fp]
+                .iter()
+                .zip(&row_j[lo - fj..j - fj])
+                .map(|(a, b)| a * b)
+                .sum();
+            row_p[j - fp] = (row_p[j - fp] - dot) * row_j[j - fj];
+        }
+        let (off, diagonal) = row_p.split_at_mut(p - fp);
+        let s = diagonal[0];
+        let d = s - off.iter().map(|x| x * x).sum::<f64>();
+        if d.is_nan() || d <= 1e-13 * s.abs().max(f64::MIN_POSITIVE) {
+            return Err(p);
+        }
+        diagonal[0] = 1.0 / d.sqrt();
+    }
+    Ok(())
+}
+
+/// Solves L Lᵀ x = b in place with L from [`skyline_factor`].
+fn skyline_solve(first: &[usize], start: &[usize], values: &[f64], x: &mut [f64]) {
+    for p in 0..first.len() {
+        let fp = first[p];
+        let row = &values[start[p]..start[p + 1]];
+        let dot: f64 = row[..p - fp]
+            .iter()
+            .zip(&x[fp..p])
+            .map(|(a, b)| a * b)
+            .sum();
+        x[p] = (x[p] - dot) * row[p - fp];
+    }
+    // Lᵀ x = y by columns of Lᵀ (rows of L): x_p is final once the rows below have been
+    // subtracted, then scattered into the rows it couples to.
+    for p in (0..first.len()).rev() {
+        let fp = first[p];
+        let row = &values[start[p]..start[p + 1]];
+        let xp = x[p] * row[p - fp];
+        x[p] = xp;
+        for (xk, l) in x[fp..p].iter_mut().zip(&row[..p - fp]) {
+            *xk -= l * xp;
+        }
+    }
+}
+
+/// Entries of the envelope of the lower triangle under the ordering `order` (`order[p]` = the
+/// node at position p).
+fn envelope_size(adjacency: &[Vec<usize>], order: &[usize]) -> usize {
+    let mut position = vec![0; order.len()];
+    for (p, &k) in order.iter().enumerate() {
+        position[k] = p;
+    }
+    order
+        .iter()
+        .enumerate()
+        .map(|(p, &k)| {
+            let f = adjacency[k]
+                .iter()
+                .map(|&j| position[j])
+                .fold(p, usize::min);
+            p - f + 1
+        })
+        .sum()
+}
+
+/// Breadth-first levels from `start` over the nodes not yet `placed`: (order visited, the
+/// level of each node, usize::MAX where not reached).
+fn bfs(adjacency: &[Vec<usize>], start: usize, placed: &[bool], level: &mut [usize]) -> Vec<usize> {
+    level.fill(usize::MAX);
+    let mut order = vec![start];
+    level[start] = 0;
+    let mut queue = VecDeque::from([start]);
+    while let Some(k) = queue.pop_front() {
+        let mut next: Vec<usize> = adjacency[k]
+            .iter()
+            .copied()
+            .filter(|&j| !placed[j] && level[j] == usize::MAX)
+            .collect();
+        // Cuthill–McKee: neighbours by increasing degree.
+        next.sort_by_key(|&j| (adjacency[j].len(), j));
+        for j in next {
+            level[j] = level[k] + 1;
+            order.push(j);
+            queue.push_back(j);
+        }
+    }
+    order
+}
+
+/// Reverse Cuthill–McKee ordering of a graph given by its adjacency lists (ref. 1, §4.3): each
+/// connected component from a pseudo-peripheral node (George–Liu: restart from a node of least
+/// degree on the last level while the eccentricity grows), breadth first, neighbours by
+/// increasing degree; the whole order reversed.
+fn reverse_cuthill_mckee(adjacency: &[Vec<usize>]) -> Vec<usize> {
+    let m = adjacency.len();
+    let mut placed = vec![false; m];
+    let mut level = vec![usize::MAX; m];
+    let mut order = Vec::with_capacity(m);
+    while let Some(seed) = (0..m)
+        .filter(|&k| !placed[k])
+        .min_by_key(|&k| (adjacency[k].len(), k))
+    {
+        let mut visit = bfs(adjacency, seed, &placed, &mut level);
+        let mut eccentricity = visit.last().map_or(0, |&k| level[k]);
+        // A handful of restarts finds a pseudo-peripheral node on the graphs of linkages.
+        for _ in 0..8 {
+            let Some(candidate) = visit
+                .iter()
+                .copied()
+                .filter(|&k| level[k] == eccentricity)
+                .min_by_key(|&k| (adjacency[k].len(), k))
+            else {
+                break;
+            };
+            let trial = bfs(adjacency, candidate, &placed, &mut level);
+            let e = trial.last().map_or(0, |&k| level[k]);
+            if e <= eccentricity {
+                break;
+            }
+            (visit, eccentricity) = (trial, e);
+        }
+        for &k in &visit {
+            placed[k] = true;
+        }
+        order.extend(visit);
+    }
+    order.reverse();
+    order
+}
+
+#[cfg(test)]
+mod tests;
