@@ -567,7 +567,10 @@ impl DaeResidual {
                     } else {
                         w.q_pert[col] = x + d;
                     }
-                    sin_cos_into(&w.q_pert, &mut w.sin_cos_pert);
+                    w.sin_cos_pert.copy_from_slice(&w.sin_cos);
+                    if !velocity && comp == 2 {
+                        w.sin_cos_pert[b] = w.q_pert[col].sin_cos();
+                    }
                     self.constraints.evaluate_into(
                         t,
                         &w.q_pert,
@@ -633,7 +636,13 @@ impl DaeResidual {
                 } else {
                     w.s_pert[col - 2 * nc] = x + sign * d;
                 }
-                sin_cos_into(&w.q_pert, &mut w.sin_cos_pert);
+                // Only a perturbed angle changes a body's (sin φ, cos φ): the others are the
+                // base point's (the Jacobian's caller filled `w.sin_cos`), which saves most of
+                // the sin_cos calls of the Jacobian.
+                w.sin_cos_pert.copy_from_slice(&w.sin_cos);
+                if col < nc && col % 3 == 2 {
+                    w.sin_cos_pert[col / 3] = w.q_pert[col].sin_cos();
+                }
                 let target = if side == 0 {
                     &mut w.forces_pert
                 } else {

@@ -369,6 +369,18 @@ impl Ida {
             if ida.yy.is_null() || ida.yp.is_null() || ida.id.is_null() || ida.dky.is_null() {
                 return Err(failure(sun::IDA_MEM_FAIL, "N_VNew_Serial failed".into()));
             }
+            // Fused vector operations (one pass for a linear combination of k vectors instead
+            // of k passes): IDA's predictor, dense output (IDAGetDky) and corrector use them,
+            // and every vector IDA clones from these inherits them. Off by default in
+            // SUNDIALS; they save 0.8 % of the instructions of a whole CLI run on farahan2016.
+            for v in [ida.yy, ida.yp, ida.dky] {
+                if sun::N_VEnableFusedOps_Serial(v, 1) != 0 {
+                    return Err(failure(
+                        sun::IDA_MEM_FAIL,
+                        "N_VEnableFusedOps_Serial failed".into(),
+                    ));
+                }
+            }
             for (x, &d) in slice(ida.id, n).iter_mut().zip(differential) {
                 *x = if d { 1.0 } else { 0.0 };
             }
@@ -380,6 +392,14 @@ impl Ida {
                 ida.dkyq = sun::N_VNew_Serial(len_q, ida.ctx);
                 if ida.yq.is_null() || ida.dkyq.is_null() {
                     return Err(failure(sun::IDA_MEM_FAIL, "N_VNew_Serial failed".into()));
+                }
+                for v in [ida.yq, ida.dkyq] {
+                    if sun::N_VEnableFusedOps_Serial(v, 1) != 0 {
+                        return Err(failure(
+                            sun::IDA_MEM_FAIL,
+                            "N_VEnableFusedOps_Serial failed".into(),
+                        ));
+                    }
                 }
                 slice(ida.yq, nq).fill(0.0);
             }

@@ -216,6 +216,7 @@ pub struct IdaMethod {
     solution: Vec<f64>,
     pieces: Vec<Piece>,
     n_pieces: usize,
+    scratch: Scratch,
     counts: IdaCounts,
 }
 
@@ -238,6 +239,7 @@ impl IdaMethod {
             solution: vec![0.0; n],
             pieces: Vec::new(),
             n_pieces: 0,
+            scratch: Scratch::default(),
             counts: IdaCounts::default(),
         }
     }
@@ -338,14 +340,21 @@ impl IdaMethod {
     }
 }
 
+/// Scratch of [`snapshot`]: Y and the quadratures at one node (reused, no allocation per step).
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    full: Vec<f64>,
+    quad: Vec<f64>,
+}
+
 /// Snapshot of IDA's last internal step into `pieces[index]`: the formulation's n = n_s + n_Q
 /// states, Y\[..n_s\] then the quadratures.
 fn snapshot(
     ida: &mut Ida,
     pieces: &mut Vec<Piece>,
     index: usize,
-    n: usize,
-    n_s: usize,
+    (n, n_s): (usize, usize),
+    scratch: &mut Scratch,
 ) -> Result<(), IdaFailure> {
     let (tn, hu, k, _) = ida.last_step()?;
     let (lo, hi) = (tn - hu.abs(), tn);
@@ -358,8 +367,9 @@ fn snapshot(
     piece.nodes.clear();
     piece.weights.clear();
     piece.values.resize((k + 1) * n, 0.0);
-    let mut full = vec![0.0; ida.len()];
-    let mut quad = vec![0.0; ida.n_quadratures()];
+    let Scratch { full, quad } = scratch;
+    full.resize(ida.len(), 0.0);
+    quad.resize(ida.n_quadratures(), 0.0);
     // Chebyshev points of the second kind, x_j = mid − half cos(jπ/k), with the barycentric
     // weights (−1)^j, halved at both ends.
     let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
@@ -373,12 +383,12 @@ fn snapshot(
         };
         let sign = if j % 2 == 0 { 1.0 } else { -1.0 };
         let w = if j == 0 || j == k { 0.5 * sign } else { sign };
-        ida.dense(x, &mut full, &mut quad)?;
+        ida.dense(x, full, quad)?;
         piece.nodes.push(x);
         piece.weights.push(w);
         let values = &mut piece.values[j * n..(j + 1) * n];
         values[..n_s].copy_from_slice(&full[..n_s]);
-        values[n_s..].copy_from_slice(&quad);
+        values[n_s..].copy_from_slice(quad);
     }
     Ok(())
 }
@@ -464,8 +474,15 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
             };
             match ida.solve_one_step(&mut equations, trial.t_new, &mut self.yy, &mut self.yq) {
                 Ok(ret) => {
-                    if let Err(e) = snapshot(ida, &mut self.pieces, self.n_pieces, self.n, self.n_s)
-                    {
+                    let sizes = (self.n, self.n_s);
+                    let piece = snapshot(
+                        ida,
+                        &mut self.pieces,
+                        self.n_pieces,
+                        sizes,
+                        &mut self.scratch,
+                    );
+                    if let Err(e) = piece {
                         outcome = Err(Some((ret.t, e)));
                         break;
                     }
