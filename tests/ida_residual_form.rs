@@ -2,7 +2,8 @@
 //! integrates: it is the same DAE as the explicit path's (the residual vanishes at the state,
 //! q̈ and λ of `Dae`), and its iteration matrix ∂F/∂Y + c ∂F/∂Ẏ matches forward differences of
 //! the residual — on the ideal four-bar, the clearance four-bar in contact (with and without
-//! energy bookkeeping) and the slider-crank (prismatic rows). Runs without the `ida` feature.
+//! energy bookkeeping) and the slider-crank (prismatic rows); the energy integrals are
+//! quadratures outside F whose rates are the DAE's. Runs without the `ida` feature.
 
 mod common;
 use common::load;
@@ -94,7 +95,13 @@ fn check_consistent(case: &str, model: &Model, energy: bool, into_contact: bool)
         .filter(|k| !dae.redundant_rows().contains(k))
         .map(|k| eval.lambda[k])
         .collect();
-    let n = dae.n_states();
+    // λ follows the states of Y: the formulation's states less the quadratures.
+    let n = dae.n_states() - form.n_quadratures();
+    assert_eq!(
+        form.n_unknowns(),
+        n + lambda_dae.len(),
+        "{case}: unknowns = states without the energy integrals + λ"
+    );
     for (i, (a, b)) in yy[n..].iter().zip(&lambda_dae).enumerate() {
         assert!(
             (a - b).abs() <= 1e-9 * scale,
@@ -114,19 +121,11 @@ fn check_jacobian(case: &str, model: &Model, energy: bool, into_contact: bool) {
         .unwrap_or_else(|e| panic!("{e}"));
     // c = α₀/h of a BDF step of 10 µs, a typical step in contact; c = 0 checks ∂F/∂Y alone
     // (the curvature terms, which the c-scaled mass terms would dwarf).
-    // The energy rows keep only their diagonal (see `residual_dae`, "Left out on purpose"):
-    // they are checked for exactly that instead.
-    let energy_rows = if energy {
-        dae.n_states() - 3..dae.n_states()
-    } else {
-        0..0
-    };
     for c in [1e5, 0.0] {
-        check_jacobian_at(case, &*form, t, &yy, &yp, &res, c, energy_rows.clone());
+        check_jacobian_at(case, &*form, t, &yy, &yp, &res, c);
     }
 }
 
-#[allow(clippy::too_many_arguments)] // one evaluation point, spelled out
 fn check_jacobian_at(
     case: &str,
     form: &dyn ResidualForm,
@@ -135,7 +134,6 @@ fn check_jacobian_at(
     yp: &[f64],
     res: &[f64],
     c: f64,
-    energy_rows: std::ops::Range<usize>,
 ) {
     let nn = form.n_unknowns();
     let mut analytic = vec![0.0; nn * nn];
@@ -149,17 +147,7 @@ fn check_jacobian_at(
     // entries, so each row is judged on its own scale), is a hundred times that; a wrong
     // analytic term (a sign, a missing λ or ω² factor) is of the row's size and fails by
     // orders of magnitude.
-    for i in energy_rows.clone() {
-        for j in 0..nn {
-            let expected = if i == j { c } else { 0.0 };
-            assert_eq!(
-                analytic[j * nn + i],
-                expected,
-                "{case}, c = {c:e}: energy row {i}, column {j}"
-            );
-        }
-    }
-    for i in (0..nn).filter(|i| !energy_rows.contains(i)) {
+    for i in 0..nn {
         let row_scale = (0..nn).fold(0.0_f64, |m, j| m.max(fd[j * nn + i].abs()));
         for j in 0..nn {
             let (a, b) = (analytic[j * nn + i], fd[j * nn + i]);
@@ -192,4 +180,50 @@ fn jacobian_matches_finite_differences() {
     check_jacobian("farahan2016, in contact", &farahan, false, true);
     check_jacobian("farahan2016, in contact, energy", &farahan, true, true);
     check_jacobian("slider_crank, t = 0", &slider, false, false);
+}
+
+/// With `--energy` the three energy integrals are quadratures, not unknowns of F: the residual
+/// system is the one without them (same N), and their rates g(t, Y, Ẏ) at consistent values are
+/// the energy rates of the DAE's own right-hand side (driver power from λ, external power,
+/// dissipation) — in free flight and in contact, where the dissipation is not zero.
+#[test]
+fn energy_integrals_are_quadratures_with_the_dae_rates() {
+    let farahan = load("models/farahan2016.toml", &[]);
+    for into_contact in [false, true] {
+        let (plain, _, _) = state(&farahan, false, into_contact);
+        let (dae, t, y) = state(&farahan, true, into_contact);
+        let form = residual_of(&dae);
+        let plain_form = residual_of(&plain);
+        assert_eq!(form.n_quadratures(), 3, "energy integrals");
+        assert_eq!(plain_form.n_quadratures(), 0, "no energy integrals");
+        assert_eq!(
+            form.n_unknowns(),
+            plain_form.n_unknowns(),
+            "the residual system does not grow with --energy"
+        );
+        let mut dy = vec![0.0; y.len()];
+        dae.rhs(t, &y, &mut dy).unwrap_or_else(|e| panic!("{e}"));
+        let (yy, yp) = consistent(&dae, &*form, t, &y);
+        let mut rates = [0.0; 3];
+        form.quadrature_rhs(t, &yy, &yp, &mut rates)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let expected = &dy[y.len() - 3..];
+        // The same sums of the same products, but λ comes from the least-squares solve of the
+        // first block row instead of the DAE's Schur complement: agreement to ~1e-9 of the
+        // largest power (round-off times condition numbers up to ~1e4, as for λ above).
+        let scale = expected.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+        for (k, (a, b)) in rates.iter().zip(expected).enumerate() {
+            assert!(
+                (a - b).abs() <= 1e-9 * scale,
+                "farahan2016 (contact: {into_contact}), energy rate {k}: quadrature {a:e} W vs DAE {b:e} W"
+            );
+        }
+        if into_contact {
+            assert!(
+                rates[2].abs() > 0.0,
+                "farahan2016 in contact: the dissipation rate is not zero ({:e} W)",
+                rates[2]
+            );
+        }
+    }
 }

@@ -8,11 +8,17 @@
 //! F = Ẏ − f(t, Y) ([`OdeResidual`]).
 //!
 //! # Layout of the unknowns
-//! Y = (y, z): first the formulation's own state y (n components, the layout of
-//! [`Formulation::n_states`](super::Formulation::n_states)), then the algebraic unknowns z
-//! (for the DAE: λ of the active constraint rows). So the state an integrator hands back to the
-//! driver is just Y\[..n\], and events, samples and restarts see the same y as with any other
-//! method.
+//! The formulation's own state y (n components, the layout of
+//! [`Formulation::n_states`](super::Formulation::n_states)) is y = (y_s, e): the states of the
+//! equations, then n_Q bookkeeping integrals e ([`ResidualForm::n_quadratures`], for the DAE
+//! the three energy integrals of `--energy`). The unknowns of F are Y = (y_s, z): the states
+//! y_s, then the algebraic unknowns z (for the DAE: λ of the active constraint rows). The
+//! integrals are no unknowns of F: they obey ė = g(t, Y, Ẏ)
+//! ([`ResidualForm::quadrature_rhs`]) and a solver integrates them as quadratures, outside its
+//! Newton iteration and its error test (IDA's quadratures, `IDAQuadInit`), so that bookkeeping
+//! cannot move the trajectory: a run with them takes the very steps of a run without. The
+//! state an integrator hands back to the driver is (Y\[..n − n_Q\], e), and events, samples
+//! and restarts see the same y as with any other method.
 //!
 //! # Iteration matrix
 //! Implicit DAE solvers (BDF in IDA) need J = ∂F/∂Y + c ∂F/∂Ẏ, where c = α₀/h is the solver's
@@ -27,16 +33,35 @@ pub trait ResidualForm {
     /// Number n of the formulation's states (the first n unknowns).
     fn n_states(&self) -> usize;
 
-    /// Number N of unknowns, n plus the algebraic ones.
+    /// Number N of unknowns of F: n − n_Q states plus the algebraic ones.
     fn n_unknowns(&self) -> usize;
+
+    /// Number n_Q of bookkeeping integrals, the last n_Q of the formulation's states, which are
+    /// not unknowns of F (see the module documentation). Default 0.
+    fn n_quadratures(&self) -> usize {
+        0
+    }
+
+    /// Their rates ė = g(t, Y, Ẏ) into `out` (length n_Q) at a solution point (Y, Ẏ) of F.
+    /// Default: nothing (no integrals).
+    fn quadrature_rhs(
+        &self,
+        _t: f64,
+        _yy: &[f64],
+        _yp: &[f64],
+        _out: &mut [f64],
+    ) -> Result<(), FormulationError> {
+        Ok(())
+    }
 
     /// Marks each unknown (length N) as differential (`true`: Ẏ_i appears in F) or algebraic
     /// (`false`).
     fn differential(&self, out: &mut [bool]);
 
-    /// Consistent values (Y, Ẏ) at (t, y), given ẏ = f(t, y) of the formulation's own
-    /// right-hand side: Y = (y, z), Ẏ = (ẏ, 0) with the algebraic unknowns z such that
-    /// F(t, Y, Ẏ) = 0.
+    /// Consistent values (Y, Ẏ) at (t, y) (y of length n), given ẏ = f(t, y) of the
+    /// formulation's own right-hand side: Y = (y_s, z), Ẏ = (ẏ_s, 0) with the algebraic
+    /// unknowns z such that F(t, Y, Ẏ) = 0 (y_s = y\[..n − n_Q\]; the integrals start from
+    /// y\[n − n_Q..\]).
     fn consistent_values(
         &self,
         t: f64,

@@ -1,21 +1,36 @@
 //! The absolute-coordinate DAE in residual form F(t, Y, Ẏ) = 0, with the Lagrange multipliers
 //! as algebraic unknowns: the equations SUNDIALS IDA integrates (`solve::ida`).
 //!
-//! Unknowns Y = (q, v, s, e, λ): coordinates q and velocities v (3 per body), the stored impact
-//! velocity s of every clearance joint, the three energy integrals e (only with
-//! [`DaeOptions::energy`](super::DaeOptions::energy)), then λ of the active constraint rows
-//! (redundant rows found at assembly are left out, as in [`Dae`]). Residual
+//! Unknowns Y = (q, v, s, λ): coordinates q and velocities v (3 per body), the stored impact
+//! velocity s of every clearance joint, then λ of the active constraint rows (redundant rows
+//! found at assembly are left out, as in [`Dae`]). Residual
 //!
 //! ```text
 //!     F_q = q̇ − v                                   (m/s, rad/s)
 //!     F_v = M v̇ + Φ_qᵀ λ − Q(t, q, v, s)             (N, N·m)
 //!     F_s = ṡ                                         (impact velocities are constant between events)
-//!     F_e = ė − (P_driver(v, λ), P_external, D)       (W)
 //!     F_λ = Φ_q v̇ − (γ − 2α Φ̇ − β² Φ)               (m/s², rad/s²)
 //! ```
 //!
 //! Q holds gravity, the force elements and the contact forces of the clearance joints (which
-//! enter as applied forces, exactly as in [`Dae`]); P_driver = −Σ_drivers λ_i (Φ_q v)_i.
+//! enter as applied forces, exactly as in [`Dae`]). The three energy integrals e of
+//! [`DaeOptions::energy`](super::DaeOptions::energy) are **quadratures**, not unknowns of F
+//! ([`ResidualForm::n_quadratures`]):
+//!
+//! ```text
+//!     ė = (P_driver, P_external, D)(t, q, v, s)      (W)
+//! ```
+//!
+//! evaluated by [`Dae`] itself at (t, q, v, s), with its own multipliers λ(q, v) (the driver
+//! power is −Σ_drivers λ_i (Φ_q v)_i): the rates of the explicit methods, so IDA's integrals
+//! are as accurate as its trajectory. (IDA's own λ would not do: it satisfies the first block
+//! row with the BDF derivative v̇ of the step, whose error is that of v divided by h, and the
+//! driver work came out 1e-3 off DOP853's, converging to nothing as rtol shrank.)
+//!
+//! so IDA's Newton iteration, error test and norms are those of a run without them, and the
+//! body states are the same to the last bit (`tests/ida_energy.rs`). The stored impact
+//! velocities s stay unknowns (the contact forces read them) but with error weight 0, out of
+//! the error and Newton tests (their rows, ṡ = 0, keep s at the value the event stored).
 //!
 //! # Which index form, and why
 //! **Index 1 at acceleration level with Baumgarte's terms** (ref. 1), the last row above. Its
@@ -41,15 +56,7 @@
 //! columns of the bodies they act on: the two bodies of every clearance joint and of every
 //! force element) — contact forces are piecewise (δ > 0), with a friction ramp, and their
 //! analytic derivatives would be long for little gain: each column costs two evaluations of the
-//! forces, not of the residual. **Left out on purpose**: the couplings of the energy rows
-//! F_e to (q, v, λ). Their rows keep only c on the diagonal, so the iteration matrix is block
-//! diagonal in e and its LU on the mechanical unknowns is the same, operation for operation,
-//! with and without energy bookkeeping. The integrals then lag one Newton iteration behind
-//! q, v and λ — converged to the Newton tolerance of the mechanical unknowns, which is all a
-//! bookkeeping quantity needs. (IDA's norms still divide by N, which the bookkeeping states
-//! change, so a run with `--energy` differs from one without at round-off in the norms, which
-//! the step control and the impacts amplify to the tolerance level: 6e-8 rad on farahan2016 at
-//! rtol 1e-8, against an error of 1.2e-7 rad. The explicit methods give identical steps.)
+//! forces, not of the residual. The energy integrals have no rows (quadratures, above).
 //!
 //! Where sparsity would enter: each constraint row touches at most two bodies and each force
 //! element two, so J has 3 × 3 blocks in the pattern of the linkage's graph (plus the λ rows).
@@ -92,6 +99,8 @@ pub struct DaeResidual {
     energy: bool,
     /// Bodies whose coordinates Q depends on: the finite-difference columns.
     force_bodies: Vec<usize>,
+    /// With `--energy`: the DAE, for the rates of the energy integrals.
+    dae: Option<Dae>,
     work: RefCell<Work>,
 }
 
@@ -124,10 +133,10 @@ struct Work {
     v_pert: Vec<f64>,
     s_pert: Vec<f64>,
     sin_cos_pert: Vec<(f64, f64)>,
+    /// The DAE's state and its derivative, for the energy rates.
+    y_dae: Vec<f64>,
+    dy_dae: Vec<f64>,
 }
-
-/// Energy rates other than the driver's: (external power, dissipation) (W).
-type Rates = [f64; 2];
 
 impl DaeResidual {
     /// The residual form of `dae`: same model, constraint rows (without the redundant ones),
@@ -182,7 +191,10 @@ impl DaeResidual {
                 v_pert: vec![0.0; nc],
                 s_pert: vec![0.0; contacts.len()],
                 sin_cos_pert: vec![(0.0, 1.0); nb],
+                y_dae: vec![0.0; Formulation::n_states(dae)],
+                dy_dae: vec![0.0; Formulation::n_states(dae)],
             }),
+            dae: energy.then(|| dae.clone()),
             model,
             constraints,
             active,
@@ -197,14 +209,13 @@ impl DaeResidual {
         3 * self.model.bodies.len()
     }
 
-    /// Index of the first energy state.
+    /// Index of the first energy state in the formulation's state, and of λ in Y.
     fn energy_index(&self) -> usize {
         2 * self.n_coordinates() + self.contacts.len()
     }
 
-    /// Q(t, q, v, s) into `out`, and the rates (external power, dissipation) when bookkeeping
-    /// energy. Fails where a penetration is too deep (recoverable) or a force is not finite.
-    #[allow(clippy::too_many_arguments)] // one state, split the way it is stored
+    /// Q(t, q, v, s) into `out`. Fails where a penetration is too deep (recoverable) or a
+    /// force is not finite.
     fn forces_into(
         &self,
         t: f64,
@@ -213,16 +224,14 @@ impl DaeResidual {
         s: &[f64],
         sin_cos: &[(f64, f64)],
         out: &mut [f64],
-    ) -> Result<Rates, FormulationError> {
+    ) -> Result<(), FormulationError> {
         self.applied.evaluate_into(t, q, v, sin_cos, out);
-        let contact_dissipation = if self.contacts.is_empty() {
-            0.0
-        } else {
+        if !self.contacts.is_empty() {
             self.contacts
-                .add_forces_into(t, q, v, sin_cos, s, out, self.energy, |j| {
+                .add_forces_into(t, q, v, sin_cos, s, out, false, |j| {
                     self.model.joint(j).name.clone()
-                })?
-        };
+                })?;
+        }
         if let Some(i) = out.iter().position(|x| !x.is_finite()) {
             return Err(FormulationError::NonFinite {
                 t,
@@ -230,22 +239,7 @@ impl DaeResidual {
                 what: "force".into(),
             });
         }
-        if !self.energy {
-            return Ok([0.0; 2]);
-        }
-        let (external, damping) = self.applied.power_split(t, q, v, sin_cos);
-        Ok([external, contact_dissipation + damping])
-    }
-
-    /// Driver power −Σ_drivers λ_i (Φ_q v)_i (W).
-    fn driver_power(&self, ce: &ConstraintEval, v: &[f64], lambda: &[f64]) -> f64 {
-        let mut p = 0.0;
-        for (i, &r) in self.active.iter().enumerate() {
-            if let RowSource::Driver(_) = self.constraints.sources()[r] {
-                p -= lambda[i] * ce.rows[r].dot_velocity(v);
-            }
-        }
-        p
+        Ok(())
     }
 
     /// The constraint part of F_λ for active row i, Φ_q v̇ − γ + 2α Φ̇ + β² Φ, at `ce`.
@@ -308,14 +302,41 @@ impl ResidualForm for DaeResidual {
     }
 
     fn n_unknowns(&self) -> usize {
-        self.n_states() + self.active.len()
+        self.energy_index() + self.active.len()
+    }
+
+    /// The energy integrals, with `--energy`.
+    fn n_quadratures(&self) -> usize {
+        if self.energy { 3 } else { 0 }
+    }
+
+    /// (P_driver, P_external, D) at (t, q, v, s) (W), by the DAE's own right-hand side (see
+    /// the module documentation).
+    fn quadrature_rhs(
+        &self,
+        t: f64,
+        yy: &[f64],
+        _yp: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), FormulationError> {
+        let Some(dae) = &self.dae else {
+            return Ok(());
+        };
+        let ke = self.energy_index();
+        let mut work = self.work.borrow_mut();
+        let Work { y_dae, dy_dae, .. } = &mut *work;
+        y_dae[..ke].copy_from_slice(&yy[..ke]);
+        y_dae[ke..].fill(0.0);
+        dae.rhs(t, y_dae, dy_dae)?;
+        out[..3].copy_from_slice(&dy_dae[ke..ke + 3]);
+        Ok(())
     }
 
     /// Everything but λ is differential.
     fn differential(&self, out: &mut [bool]) {
-        let n = self.n_states();
+        let ns = self.energy_index();
         for (i, d) in out.iter_mut().enumerate() {
-            *d = i < n;
+            *d = i < ns;
         }
     }
 
@@ -329,11 +350,11 @@ impl ResidualForm for DaeResidual {
         yy: &mut [f64],
         yp: &mut [f64],
     ) -> Result<(), FormulationError> {
-        let n = self.n_states();
+        let n = self.energy_index();
         let nc = self.n_coordinates();
         let ma = self.active.len();
-        yy[..n].copy_from_slice(y);
-        yp[..n].copy_from_slice(dy);
+        yy[..n].copy_from_slice(&y[..n]);
+        yp[..n].copy_from_slice(&dy[..n]);
         yp[n..].fill(0.0);
         let mut work = self.work.borrow_mut();
         let Work {
@@ -377,8 +398,8 @@ impl ResidualForm for DaeResidual {
         res: &mut [f64],
     ) -> Result<(), FormulationError> {
         let nc = self.n_coordinates();
-        let n = self.n_states();
-        let ke = self.energy_index();
+        let n = self.energy_index();
+        let ke = n;
         let (q, v, s) = (&yy[..nc], &yy[nc..2 * nc], &yy[2 * nc..ke]);
         let lambda = &yy[n..];
         let (dq, acc) = (&yp[..nc], &yp[nc..2 * nc]);
@@ -390,7 +411,7 @@ impl ResidualForm for DaeResidual {
             ..
         } = &mut *work;
         sin_cos_into(q, sin_cos);
-        let rates = self.forces_into(t, q, v, s, sin_cos, forces)?;
+        self.forces_into(t, q, v, s, sin_cos, forces)?;
         self.constraints.evaluate_into(t, q, v, sin_cos, ce);
         for k in 0..nc {
             res[k] = dq[k] - v[k];
@@ -409,12 +430,6 @@ impl ResidualForm for DaeResidual {
             res[n + i] = self.constraint_row(ce, r, acc);
         }
         res[2 * nc..ke].copy_from_slice(&yp[2 * nc..ke]);
-        if self.energy {
-            let p_driver = self.driver_power(ce, v, lambda);
-            res[ke] = yp[ke] - p_driver;
-            res[ke + 1] = yp[ke + 1] - rates[0];
-            res[ke + 2] = yp[ke + 2] - rates[1];
-        }
         Ok(())
     }
 
@@ -429,7 +444,7 @@ impl ResidualForm for DaeResidual {
     ) -> Result<usize, FormulationError> {
         let nn = self.n_unknowns();
         let nc = self.n_coordinates();
-        let n = self.n_states();
+        let n = self.energy_index();
         let Baumgarte { alpha, beta } = self.baumgarte;
         out.fill(0.0);
         // Entry (row i, column j) of the column-major N × N matrix.
@@ -443,7 +458,7 @@ impl ResidualForm for DaeResidual {
         self.constraints
             .evaluate_into(t, q, v, &w.sin_cos, &mut w.ce);
 
-        // F_q = q̇ − v; F_v = M v̇ + …; F_s = ṡ; F_e = ė − …
+        // F_q = q̇ − v; F_v = M v̇ + …; F_s = ṡ
         for k in 0..nc {
             out[at(k, k)] = c;
             out[at(k, nc + k)] = -1.0;
@@ -491,7 +506,7 @@ impl ResidualForm for DaeResidual {
             }
         }
 
-        // ∂Q/∂(q, v, s) and the energy rates by forward differences over the force bodies.
+        // ∂Q/∂(q, v, s) by central differences over the force bodies.
         let calls = self.difference_forces(t, yy, w, out)?;
         Ok(calls)
     }
@@ -530,7 +545,7 @@ impl DaeResidual {
     ) {
         let nn = self.n_unknowns();
         let nc = self.n_coordinates();
-        let n = self.n_states();
+        let n = self.energy_index();
         let li = n + i;
         let Baumgarte { alpha, beta } = self.baumgarte;
         let (q, v) = (&yy[..nc], &yy[nc..2 * nc]);
@@ -552,7 +567,10 @@ impl DaeResidual {
                     } else {
                         w.q_pert[col] = x + d;
                     }
-                    sin_cos_into(&w.q_pert, &mut w.sin_cos_pert);
+                    w.sin_cos_pert.copy_from_slice(&w.sin_cos);
+                    if !velocity && comp == 2 {
+                        w.sin_cos_pert[b] = w.q_pert[col].sin_cos();
+                    }
                     self.constraints.evaluate_into(
                         t,
                         &w.q_pert,
@@ -618,7 +636,13 @@ impl DaeResidual {
                 } else {
                     w.s_pert[col - 2 * nc] = x + sign * d;
                 }
-                sin_cos_into(&w.q_pert, &mut w.sin_cos_pert);
+                // Only a perturbed angle changes a body's (sin φ, cos φ): the others are the
+                // base point's (the Jacobian's caller filled `w.sin_cos`), which saves most of
+                // the sin_cos calls of the Jacobian.
+                w.sin_cos_pert.copy_from_slice(&w.sin_cos);
+                if col < nc && col % 3 == 2 {
+                    w.sin_cos_pert[col / 3] = w.q_pert[col].sin_cos();
+                }
                 let target = if side == 0 {
                     &mut w.forces_pert
                 } else {

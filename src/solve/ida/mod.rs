@@ -34,16 +34,20 @@
 //!   `rejected`, `error_test_failures` and `newton_failures`.
 //! * Error control: IDA's weighted RMS norm over all N unknowns gets weights
 //!   √(N/m)/(rtol·|y_i| + atol) on the m error-controlled states and 0 on bookkeeping ones
-//!   (stored impact velocities, energy integrals), which is the norm of
+//!   (stored impact velocities), which is the norm of
 //!   [`ErrorWeights`]. λ has weight 0: it is out of the error test (`IDASetSuppressAlg`) and
 //!   out of the Newton test, where the velocities judge it: an error Δλ moves v̇ by
 //!   M⁻¹Φ_qᵀΔλ and the Newton correction of v by that over c, so converged velocities mean a
 //!   λ converged on its natural scale c·M·(tolerance of v). (A weight 1/(rtol·|λ|) made
 //!   Newton fail on round-off of λ near configurations where the KKT matrix is ill
 //!   conditioned.) λ feeds nothing but the energy rates: output columns recompute it from
-//!   (q, v). The norms do not depend on the bookkeeping states except through the rounding of
-//!   IDA's division by N: `--energy` changes the trajectory at the tolerance level only, not
-//!   to round-off as with the other methods.
+//!   (q, v).
+//! * Bookkeeping integrals (the energy of `--energy`,
+//!   [`ResidualForm::n_quadratures`]) are IDAS quadratures: integrated by the same BDF
+//!   formulas after each converged step, outside the Newton iteration and the error test
+//!   (`IDASetQuadErrCon(false)`), so IDA's unknowns, norms and steps are those of a run
+//!   without them and the body states are bit-identical (`tests/ida_energy.rs`). Their dense
+//!   output is IDA's (`IDAGetQuadDky`).
 //! * A residual that fails recoverably (a trial state deep in a contact,
 //!   [`FormulationError::is_recoverable`]) is returned to IDA as recoverable (> 0): IDA retries
 //!   with a smaller step. If IDA gives up, the error goes to the driver as it is, which retries
@@ -111,6 +115,7 @@ impl Piece {
 struct Equations<'a> {
     form: &'a dyn ResidualForm,
     weights: &'a ErrorWeights,
+    /// Number of the formulation's states in Y (n − n_Q): the unknowns after them are λ.
     n: usize,
     /// √(N/m): IDA's norm divides by N, linkdyn's by the m controlled components.
     scale: f64,
@@ -172,6 +177,13 @@ impl Problem for Equations<'_> {
         }
         Callback::Ok
     }
+
+    fn quadrature(&mut self, t: f64, yy: &[f64], yp: &[f64], out: &mut [f64]) -> Callback {
+        match self.form.quadrature_rhs(t, yy, yp, out) {
+            Ok(()) => Callback::Ok,
+            Err(e) => self.failed(t, e),
+        }
+    }
 }
 
 /// A (re)start waiting for the next attempt: the state and, from the driver, f(t, y).
@@ -184,7 +196,9 @@ struct Pending {
 
 /// SUNDIALS IDA behind the [`Integrator`] trait (see the module documentation).
 pub struct IdaMethod {
+    /// The formulation's states: n = n_s + n_Q (states in Y, then the quadratures).
     n: usize,
+    n_s: usize,
     weights: ErrorWeights,
     h_max: f64,
     ida: Option<Ida>,
@@ -197,9 +211,12 @@ pub struct IdaMethod {
     t_ida: f64,
     yy: Vec<f64>,
     yp: Vec<f64>,
+    /// The quadratures (length n_Q).
+    yq: Vec<f64>,
     solution: Vec<f64>,
     pieces: Vec<Piece>,
     n_pieces: usize,
+    scratch: Scratch,
     counts: IdaCounts,
 }
 
@@ -208,6 +225,7 @@ impl IdaMethod {
     pub fn new(n: usize, weights: ErrorWeights, h_max: f64) -> Self {
         IdaMethod {
             n,
+            n_s: n,
             weights,
             h_max,
             ida: None,
@@ -217,9 +235,11 @@ impl IdaMethod {
             t_ida: f64::NAN,
             yy: Vec::new(),
             yp: Vec::new(),
+            yq: Vec::new(),
             solution: vec![0.0; n],
             pieces: Vec::new(),
             n_pieces: 0,
+            scratch: Scratch::default(),
             counts: IdaCounts::default(),
         }
     }
@@ -264,11 +284,14 @@ impl IdaMethod {
             });
         }
         let nn = form.n_unknowns();
+        let nq = form.n_quadratures().min(self.n);
+        self.n_s = self.n - nq;
         let mut differential = vec![true; nn];
         form.differential(&mut differential);
         self.yy = vec![0.0; nn];
         self.yp = vec![0.0; nn];
-        self.ida = Some(Ida::new(&differential).map_err(|e| method_failure(t, e))?);
+        self.yq = vec![0.0; nq];
+        self.ida = Some(Ida::new(&differential, nq).map_err(|e| method_failure(t, e))?);
         Ok(())
     }
 
@@ -302,12 +325,13 @@ impl IdaMethod {
         };
         form.consistent_values(p.t, &p.y, &f0, &mut self.yy, &mut self.yp)
             .map_err(|source| SolveError::Formulation { t: p.t, source })?;
+        self.yq.copy_from_slice(&p.y[self.n_s..]);
         self.add_counts(stats);
         let h_max = self.h_max;
         let Some(ida) = self.ida.as_mut() else {
             return Ok(());
         };
-        let result = ida.init(p.t, &self.yy, &self.yp, h0, h_max);
+        let result = ida.init(p.t, &self.yy, &self.yp, &self.yq, h0, h_max);
         // IDAReInit resets IDA's counters.
         self.counts = IdaCounts::default();
         result.map_err(|e| method_failure(p.t, e))?;
@@ -316,12 +340,21 @@ impl IdaMethod {
     }
 }
 
-/// Snapshot of IDA's last internal step into `pieces[index]` (n components).
+/// Scratch of [`snapshot`]: Y and the quadratures at one node (reused, no allocation per step).
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    full: Vec<f64>,
+    quad: Vec<f64>,
+}
+
+/// Snapshot of IDA's last internal step into `pieces[index]`: the formulation's n = n_s + n_Q
+/// states, Y\[..n_s\] then the quadratures.
 fn snapshot(
     ida: &mut Ida,
     pieces: &mut Vec<Piece>,
     index: usize,
-    n: usize,
+    (n, n_s): (usize, usize),
+    scratch: &mut Scratch,
 ) -> Result<(), IdaFailure> {
     let (tn, hu, k, _) = ida.last_step()?;
     let (lo, hi) = (tn - hu.abs(), tn);
@@ -334,7 +367,9 @@ fn snapshot(
     piece.nodes.clear();
     piece.weights.clear();
     piece.values.resize((k + 1) * n, 0.0);
-    let mut full = vec![0.0; ida.len()];
+    let Scratch { full, quad } = scratch;
+    full.resize(ida.len(), 0.0);
+    quad.resize(ida.n_quadratures(), 0.0);
     // Chebyshev points of the second kind, x_j = mid − half cos(jπ/k), with the barycentric
     // weights (−1)^j, halved at both ends.
     let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
@@ -348,10 +383,12 @@ fn snapshot(
         };
         let sign = if j % 2 == 0 { 1.0 } else { -1.0 };
         let w = if j == 0 || j == k { 0.5 * sign } else { sign };
-        ida.dense(x, &mut full)?;
+        ida.dense(x, full, quad)?;
         piece.nodes.push(x);
         piece.weights.push(w);
-        piece.values[j * n..(j + 1) * n].copy_from_slice(&full[..n]);
+        let values = &mut piece.values[j * n..(j + 1) * n];
+        values[..n_s].copy_from_slice(&full[..n_s]);
+        values[n_s..].copy_from_slice(quad);
     }
     Ok(())
 }
@@ -424,7 +461,7 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
         let mut equations = Equations {
             form,
             weights: &self.weights,
-            n: self.n,
+            n: self.n_s,
             scale: (self.yy.len() as f64 / m as f64).sqrt(),
             error: None,
             jacobian_rhs_calls: 0,
@@ -435,9 +472,17 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
             let Some(ida) = self.ida.as_mut() else {
                 break;
             };
-            match ida.solve_one_step(&mut equations, trial.t_new, &mut self.yy) {
+            match ida.solve_one_step(&mut equations, trial.t_new, &mut self.yy, &mut self.yq) {
                 Ok(ret) => {
-                    if let Err(e) = snapshot(ida, &mut self.pieces, self.n_pieces, self.n) {
+                    let sizes = (self.n, self.n_s);
+                    let piece = snapshot(
+                        ida,
+                        &mut self.pieces,
+                        self.n_pieces,
+                        sizes,
+                        &mut self.scratch,
+                    );
+                    if let Err(e) = piece {
                         outcome = Err(Some((ret.t, e)));
                         break;
                     }
@@ -459,7 +504,8 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
         self.add_counts(stats);
         match outcome {
             Ok(()) => {
-                self.solution.copy_from_slice(&self.yy[..self.n]);
+                self.solution[..self.n_s].copy_from_slice(&self.yy[..self.n_s]);
+                self.solution[self.n_s..].copy_from_slice(&self.yq);
                 self.t_ida = trial.t_new;
                 let h_next = self
                     .ida
