@@ -10,6 +10,7 @@ runs only with ``LINKDYN_TIMING_TESTS=1`` on a machine with at least 2 CPUs.
 import _thread
 import io
 import os
+import signal
 import sys
 import threading
 import time
@@ -124,9 +125,15 @@ def test_ctrl_c_stops_the_sweep():
             # KeyboardInterrupt lands in the next test).
             _thread.interrupt_main()
 
-    with pytest.raises(KeyboardInterrupt):
-        linkdyn.load(MODEL, set=FAST).bifurcation(
-            **SWEEP, from_=2e-4, to=5e-4, steps=11, threads=1, progress=progress)
+    # A process started in the background by a non-interactive shell inherits SIGINT ignored, and
+    # Python then installs no handler, so interrupt_main() would do nothing: install Python's own.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            linkdyn.load(MODEL, set=FAST).bifurcation(
+                **SWEEP, from_=2e-4, to=5e-4, steps=11, threads=1, progress=progress)
+    finally:
+        signal.signal(signal.SIGINT, previous)
     # 12 points; the interrupt came with the first report, so the sweep stopped long before 12.
     assert calls and calls[-1] < 12, calls
 
