@@ -10,60 +10,20 @@
 //! the number of unknowns, which the integrals changed).
 #![cfg(feature = "ida")]
 
-use linkdyn::formulation::{Dae, DaeOptions, Formulation};
-use linkdyn::solve::{
-    EventRecord, Method, Sink, SolveError, SolverOptions, SolverStats, integrate,
-};
+mod common;
+use common::energy::{assert_same_motion, run_farahan};
+use common::ode::OdeRecorder;
+use linkdyn::solve::{Method, SolverOptions, SolverStats};
 
-/// Raw states at every sample and the events.
-#[derive(Default)]
-struct States {
-    t: Vec<f64>,
-    y: Vec<Vec<f64>>,
-    events: Vec<EventRecord>,
-}
-
-impl<F> Sink<F> for States {
-    fn sample(&mut self, _f: &F, t: f64, y: &[f64]) -> Result<(), SolveError> {
-        self.t.push(t);
-        self.y.push(y.to_vec());
-        Ok(())
-    }
-    fn event(
-        &mut self,
-        _f: &F,
-        event: &EventRecord,
-        _before: &[f64],
-        _after: &[f64],
-    ) -> Result<(), SolveError> {
-        self.events.push(*event);
-        Ok(())
-    }
-}
-
-/// farahan2016, two crank turns at 250 rpm, with `method` at `rtol` (atol = 1e-2·rtol, the
-/// default ratio), samples every ms. Returns the samples, the statistics and the number of
-/// body states (coordinates and velocities).
-fn run(energy: bool, method: Method, rtol: f64) -> (States, SolverStats, usize) {
-    let model = linkdyn::model::load("models/farahan2016.toml".as_ref(), &[])
-        .unwrap_or_else(|e| panic!("{e}"));
-    let options = DaeOptions {
-        energy,
-        ..DaeOptions::default()
-    };
-    let mut dae = Dae::new(&model, &options).unwrap_or_else(|e| panic!("{e}"));
-    let body_states = 2 * dae.n_coordinates();
-    let y0 = dae.initial_state();
+/// [`run_farahan`] with `method` at `rtol` (atol = 1e-2·rtol, the default ratio).
+fn run(energy: bool, method: Method, rtol: f64) -> (OdeRecorder, SolverStats, usize) {
     let opts = SolverOptions::default()
         .method(method)
         .rtol(rtol)
         .atol(rtol * 1e-2)
         .build()
         .unwrap_or_else(|e| panic!("{e}"));
-    let mut states = States::default();
-    let stats = integrate(&mut dae, 0.0, &y0, 0.48, 1e-3, &opts, &mut states)
-        .unwrap_or_else(|e| panic!("energy {energy}, {method}: {e}"));
-    (states, stats, body_states)
+    run_farahan(energy, &opts)
 }
 
 #[test]
@@ -87,24 +47,8 @@ fn energy_bookkeeping_does_not_change_the_ida_motion() {
         ),
         "IDA: steps, rejections, Newton iterations and Jacobians without / with energy bookkeeping"
     );
-    assert_eq!(plain.t, booked.t, "IDA: sample times");
     // Bit-identical: IDA's unknowns, weights and linear algebra are the same in both runs.
-    for (k, (a, b)) in plain.y.iter().zip(&booked.y).enumerate() {
-        for i in 0..n {
-            assert!(
-                a[i].to_bits() == b[i].to_bits(),
-                "IDA: state {i} at t = {} s: {} without, {} with energy bookkeeping",
-                plain.t[k],
-                a[i],
-                b[i]
-            );
-        }
-    }
-    assert!(plain.events.len() > 10, "IDA: expected impacts");
-    assert_eq!(
-        plain.events, booked.events,
-        "IDA: impact and separation times"
-    );
+    assert_same_motion("IDA", &plain, &booked, n);
 
     // The integrals are worth having: driver work, external work and dissipation at the end
     // agree with DOP853's at rtol 1e-10 (whose own difference to rtol 1e-8 is 3e-9 J). The
@@ -115,14 +59,16 @@ fn energy_bookkeeping_does_not_change_the_ida_motion() {
     // impact's share of the dissipation (≈ 0.4 J / 22). With IDA's own λ in the driver power
     // the difference was 5e-3 J (`formulation::residual_dae`).
     let (reference, _, _) = run(true, Method::Dop853, 1e-10);
-    let (Some(ida_end), Some(ref_end)) = (booked.y.last(), reference.y.last()) else {
+    let (Some((_, ida_end)), Some((_, ref_end))) =
+        (booked.samples.last(), reference.samples.last())
+    else {
         panic!("no samples");
     };
     let m = ida_end.len();
     let swing = reference
-        .y
+        .samples
         .iter()
-        .flat_map(|y| &y[m - 3..])
+        .flat_map(|(_, y)| &y[m - 3..])
         .fold(0.0_f64, |s, x| s.max(x.abs()));
     assert!(
         swing > 1.0,

@@ -1,6 +1,7 @@
 //! Shared helpers for the physics tests: run a model to a [`Recorder`].
 #![allow(dead_code)]
 
+pub mod energy;
 pub mod ode;
 
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs};
