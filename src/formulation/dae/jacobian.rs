@@ -38,7 +38,6 @@
 
 use super::{Dae, sin_cos_of};
 use crate::formulation::FormulationError;
-use crate::formulation::cholesky;
 use crate::formulation::contact_slopes::{Direction, LawSlopes};
 use crate::mechanics::constraints::{ConstraintEval, RowCurvature};
 use crate::mechanics::planar::{cross, perp};
@@ -134,16 +133,12 @@ impl Dae {
                 }
             }
         }
-        // S = Φ_q M⁻¹ Φ_qᵀ (lower triangle suffices), factored.
-        let mut schur = vec![0.0; ma * ma];
-        for i in 0..ma {
-            for j in 0..=i {
-                schur[i * ma + j] = (0..n)
-                    .map(|c| jac[i * n + c] * self.inv_mass[c] * jac[j * n + c])
-                    .sum();
-            }
-        }
-        if let Err(pivot) = cholesky::factor(&mut schur, ma) {
+        // S = Φ_q M⁻¹ Φ_qᵀ, formed and factored by the right-hand side's own solver (its
+        // structure and storage; the RHS factors it afresh at every call, so borrowing it here
+        // leaves nothing behind).
+        let mut work = self.work.borrow_mut();
+        let schur = &mut work.schur;
+        if let Err(pivot) = schur.factor(&ce.rows, &self.active, &self.inv_mass, 0.0) {
             return Err(FormulationError::SingularConstraints {
                 t,
                 constraint: self.constraints.row_name(&self.model, self.active[pivot]),
@@ -180,7 +175,7 @@ impl Dae {
                     .sum::<f64>()
                     - s;
             }
-            cholesky::solve(&schur, ma, &mut rhs);
+            schur.solve(&mut rhs);
             for c in 0..n {
                 let constraint: f64 = (0..ma).map(|i| jac[i * n + c] * rhs[i]).sum();
                 out[(n + c) * ny + col] = self.inv_mass[c] * (r[c] - constraint);
