@@ -232,6 +232,21 @@ impl Dae {
         self.length_scale
     }
 
+    /// The constraint rows the DAE solves for (those found redundant at assembly left out).
+    pub fn active_rows(&self) -> &[usize] {
+        &self.active
+    }
+
+    /// The weight that makes constraint row k's value a length, as the coordinate partitioning
+    /// and the diagnosis scale it: [`Dae::length_scale`] for an angle row (rad), 1 for a
+    /// position row (m).
+    pub fn row_length_weight(&self, k: usize) -> f64 {
+        match self.constraints.sources().get(k) {
+            Some(&source) if is_angle_row(source) => self.length_scale,
+            _ => 1.0,
+        }
+    }
+
     /// Number of coordinates (3 per body).
     pub fn n_coordinates(&self) -> usize {
         3 * self.model.bodies.len()
@@ -622,7 +637,7 @@ fn length_scale(model: &Model, q: &[f64]) -> f64 {
 }
 
 /// (sin φ, cos φ) of every body.
-fn sin_cos_of(q: &[f64]) -> Vec<(f64, f64)> {
+pub(super) fn sin_cos_of(q: &[f64]) -> Vec<(f64, f64)> {
     (0..q.len() / 3).map(|i| q[3 * i + 2].sin_cos()).collect()
 }
 

@@ -23,8 +23,8 @@
 //! available: a block much worse than the best is one that should have been repartitioned.
 
 use super::FormulationError;
-use super::dae::Dae;
-use crate::mechanics::constraints::{ConstraintEval, RowSource};
+use super::dae::{Dae, sin_cos_of};
+use crate::mechanics::constraints::ConstraintEval;
 use nalgebra::DMatrix;
 
 /// σ_min/σ_max of the scaled constraint Jacobian below which the rows count as nearly
@@ -96,24 +96,19 @@ pub fn generalized(
 fn dependent_rows(dae: &Dae, t: f64, q: &[f64], v: &[f64]) -> Option<String> {
     let set = dae.constraints();
     let model = dae.model();
-    let active: Vec<usize> = (0..set.n_rows())
-        .filter(|k| !dae.redundant_rows().contains(k))
-        .collect();
+    let active = dae.active_rows();
     let (m, n) = (active.len(), q.len());
     if m == 0 || n == 0 {
         return None;
     }
-    let sin_cos: Vec<(f64, f64)> = (0..n / 3).map(|i| q[3 * i + 2].sin_cos()).collect();
+    let sin_cos = sin_cos_of(q);
     let mut eval = ConstraintEval::with_rows(set.n_rows());
     set.evaluate_into(t, q, v, &sin_cos, &mut eval);
     let l = dae.length_scale();
     let mut jac = DMatrix::<f64>::zeros(m, n);
     for (i, &k) in active.iter().enumerate() {
         let row = eval.rows.get(k)?;
-        let weight = match set.sources().get(k)? {
-            RowSource::Driver(_) | RowSource::PrismaticAngle(_) => l,
-            _ => 1.0,
-        };
+        let weight = dae.row_length_weight(k);
         for (body, j) in [(row.body_a, row.jac_a), (row.body_b, row.jac_b)] {
             let Some(b) = body else { continue };
             for (c, value) in j.iter().enumerate() {

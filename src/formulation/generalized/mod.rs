@@ -73,7 +73,7 @@ use super::contacts::ContactSites;
 use super::dae::{Dae, DaeOptions};
 use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
 use crate::mechanics::AppliedForces;
-use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
+use crate::mechanics::constraints::{ConstraintEval, ConstraintSet};
 use crate::model::{Baumgarte, Model};
 use std::cell::RefCell;
 
@@ -167,17 +167,9 @@ impl Generalized {
         };
         let dae = Dae::new(model, &dae_options)?;
         let constraints = dae.constraints().clone();
-        let active: Vec<usize> = (0..constraints.n_rows())
-            .filter(|k| !dae.redundant_rows().contains(k))
-            .collect();
+        let active = dae.active_rows().to_vec();
         let length_scale = dae.length_scale();
-        let row_weight = active
-            .iter()
-            .map(|&k| match constraints.sources()[k] {
-                RowSource::Driver(_) | RowSource::PrismaticAngle(_) => length_scale,
-                _ => 1.0,
-            })
-            .collect();
+        let row_weight = active.iter().map(|&k| dae.row_length_weight(k)).collect();
         let n = dae.n_coordinates();
         let m = active.len();
         if m > n {
