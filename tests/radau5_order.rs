@@ -1,10 +1,11 @@
 //! Convergence orders of Radau IIA (order 5) at fixed step on a smooth non-stiff problem:
 //! the end-point error falls by 2⁵ = 32 when h is halved, and the dense output (the cubic
-//! collocation polynomial, order 3) by 2⁴ = 16 inside a single step.
+//! collocation polynomial, order 3) by 2⁴ = 16 inside a single step. Radau5 runs through the
+//! common driver (`Stepper`, `Method::Radau5`).
 
 use linkdyn::formulation::{Formulation, FormulationError};
-use linkdyn::solve::radau5::{Radau5, Radau5Settings};
-use linkdyn::solve::{SolveError, SolverOptions};
+use linkdyn::solve::radau5::Radau5Settings;
+use linkdyn::solve::{Method, SolveError, SolverOptions, Stepper, Stop};
 
 /// y' = y cos t, y(0) = 1: y = e^{sin t} (nonlinear in t, smooth, non-stiff).
 struct ExpSin;
@@ -21,20 +22,18 @@ impl Formulation for ExpSin {
     }
 }
 
-/// Fixed-step options with rtol = 1e-13 so that the Newton iteration is converged far below
-/// the truncation error (its stopping test is relative to the error scale).
+/// Fixed-step Radau5 options with rtol = 1e-13 so that the Newton iteration is converged far
+/// below the truncation error (its stopping test is relative to the error scale), and up to 30
+/// Newton iterations: with rtol = 1e-13 the iteration starts ~10⁹ error scales away from the
+/// solution on the first step, and the default 7 would make the fixed-step integrator halve h
+/// (a Newton failure) instead of converging.
 fn fixed(h: f64) -> Result<SolverOptions, SolveError> {
     SolverOptions::with_fixed_step(h)
+        .method(Method::Radau5)
         .rtol(1e-13)
         .atol(1e-13)
+        .radau5(Radau5Settings::default().max_newton_iter(30))
         .build()
-}
-
-/// Up to 30 Newton iterations: with rtol = 1e-13 the iteration starts ~10⁹ error scales away
-/// from the solution on the first step, and the default 7 would make the fixed-step
-/// integrator halve h (a Newton failure) instead of converging.
-fn settings() -> Radau5Settings {
-    Radau5Settings::default().max_newton_iter(30)
 }
 
 #[test]
@@ -43,8 +42,9 @@ fn end_point_error_is_of_order_five() -> Result<(), SolveError> {
     let exact = t_end.sin().exp();
     let mut errors = Vec::new();
     for h in [0.2, 0.1, 0.05, 0.025] {
-        let mut r = Radau5::new(&ExpSin, 0.0, &[1.0], t_end, &fixed(h)?, &settings())?;
-        r.run_to_end(&ExpSin)?;
+        let mut f = ExpSin;
+        let mut r = Stepper::new(&mut f, 0.0, &[1.0], t_end, &fixed(h)?)?;
+        while r.step()? != Stop::EndReached {}
         let steps = r.stats().steps;
         assert_eq!(steps, (t_end / h).round() as u64, "h = {h}: equal steps");
         errors.push((h, (r.y()[0] - exact).abs()));
@@ -68,8 +68,10 @@ fn dense_output_is_of_order_three_inside_a_step() -> Result<(), SolveError> {
     // u(t) − y(t) = O(h⁴) inside the step (order 3), while y_{1} − y(h) = O(h⁶).
     let mut worst = Vec::new();
     for h in [0.2, 0.1, 0.05, 0.025] {
-        let mut r = Radau5::new(&ExpSin, 0.0, &[1.0], h, &fixed(h)?, &settings())?;
-        assert!(r.step(&ExpSin)?, "h = {h}: one step");
+        let mut f = ExpSin;
+        let mut r = Stepper::new(&mut f, 0.0, &[1.0], h, &fixed(h)?)?;
+        assert_eq!(r.step()?, Stop::EndReached, "h = {h}: one step to the end");
+        assert_eq!(r.stats().steps, 1, "h = {h}: one step");
         assert_eq!(r.dense_range(), (0.0, h));
         let mut out = [0.0];
         let mut e_max: f64 = 0.0;

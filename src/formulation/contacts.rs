@@ -207,6 +207,13 @@ impl ContactSites {
         }
     }
 
+    /// True when every joint is in contact ([`in_contact`]) at (q, q̇): the grazing guard then
+    /// allows any step ([`ContactSites::max_step`] is ∞), and a caller can skip computing q̈
+    /// for it. True for no joints.
+    pub fn all_in_contact(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> bool {
+        (0..self.sites.len()).all(|k| in_contact(&self.site_kinematics(k, q, v, sin_cos).2))
+    }
+
     /// The grazing guard: the largest step allowed from (q, q̇, q̈), the minimum over the free
     /// joints of [`free_flight_max_step`] (∞ when every joint is in contact).
     pub fn max_step(&self, q: &[f64], v: &[f64], acc: &[f64], sin_cos: &[(f64, f64)]) -> f64 {

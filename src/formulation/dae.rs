@@ -804,6 +804,13 @@ impl Formulation for Dae {
             return f64::INFINITY;
         }
         let n = self.n_coordinates();
+        let sin_cos = sin_cos_of(&y[..n]);
+        if self
+            .contacts
+            .all_in_contact(&y[..n], &y[n..2 * n], &sin_cos)
+        {
+            return f64::INFINITY; // no free joint to guard: q̈ is not needed
+        }
         let mut work = self.work.borrow_mut();
         // The integrators evaluate f at the step's end (FSAL), so q̈ is usually at hand.
         let cached = work.last_t == t && work.last_y.as_slice() == y;
@@ -814,7 +821,6 @@ impl Formulation for Dae {
                 return f64::INFINITY;
             }
         }
-        let sin_cos = sin_cos_of(&y[..n]);
         self.contacts
             .max_step(&y[..n], &y[n..2 * n], &work.last_acc, &sin_cos)
     }

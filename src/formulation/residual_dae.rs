@@ -71,11 +71,11 @@
 //! 3. K. E. Brenan, S. L. Campbell, L. R. Petzold, *Numerical Solution of Initial-Value Problems
 //!    in Differential-Algebraic Equations*, SIAM, 1996, Ch. 5 (index and BDF).
 
-use super::cholesky;
 use super::contacts::ContactSites;
 use super::dae::Dae;
 use super::jacobian::increment;
 use super::residual::ResidualForm;
+use super::schur::{Schur, SchurSolver};
 use super::{Formulation, FormulationError};
 use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
@@ -95,6 +95,8 @@ pub struct DaeResidual {
     applied: AppliedForces,
     contacts: ContactSites,
     mass: Vec<f64>,
+    /// M⁻¹ (diagonal, 3 per body), for the Schur complement of the consistent λ.
+    inv_mass: Vec<f64>,
     baumgarte: Baumgarte,
     energy: bool,
     /// Bodies whose coordinates Q depends on: the finite-difference columns.
@@ -136,6 +138,8 @@ struct Work {
     /// The DAE's state and its derivative, for the energy rates.
     y_dae: Vec<f64>,
     dy_dae: Vec<f64>,
+    /// S = Φ_q M⁻¹ Φ_qᵀ of the active rows, for the consistent λ.
+    schur: Schur,
 }
 
 impl DaeResidual {
@@ -173,12 +177,25 @@ impl DaeResidual {
         let contacts = dae.contacts().clone();
         let force_bodies = force_bodies(&model, &contacts);
         let m = constraints.n_rows();
+        let mass: Vec<f64> = model
+            .bodies
+            .iter()
+            .flat_map(|b| [b.mass, b.mass, b.inertia])
+            .collect();
+        // The structure of S from the rows at the initial state (which bodies a row touches
+        // does not change with q), as the DAE's own right-hand side builds it.
+        let schur = {
+            let y0 = dae.initial_state();
+            let (q0, v0) = (&y0[..nc], &y0[nc..2 * nc]);
+            let mut sin_cos = vec![(0.0, 1.0); nb];
+            sin_cos_into(q0, &mut sin_cos);
+            let mut eval = ConstraintEval::with_rows(m);
+            constraints.evaluate_into(dae.t0(), q0, v0, &sin_cos, &mut eval);
+            Schur::new(&eval.rows, &active, SchurSolver::Auto)
+        };
         DaeResidual {
-            mass: model
-                .bodies
-                .iter()
-                .flat_map(|b| [b.mass, b.mass, b.inertia])
-                .collect(),
+            inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
+            mass,
             applied: AppliedForces::from_model(&model),
             baumgarte: dae.baumgarte(),
             work: RefCell::new(Work {
@@ -193,6 +210,7 @@ impl DaeResidual {
                 sin_cos_pert: vec![(0.0, 1.0); nb],
                 y_dae: vec![0.0; Formulation::n_states(dae)],
                 dy_dae: vec![0.0; Formulation::n_states(dae)],
+                schur,
             }),
             dae: energy.then(|| dae.clone()),
             model,
@@ -340,8 +358,12 @@ impl ResidualForm for DaeResidual {
         }
     }
 
-    /// λ from the first block row, Φ_qᵀ λ = Q − M q̈, in the least-squares sense (it holds
-    /// exactly for the q̈ of [`Dae`]): (Φ_q Φ_qᵀ) λ = Φ_q (Q − M q̈), by Cholesky.
+    /// λ from the first block row, Φ_qᵀ λ = Q − M q̈, multiplied by Φ_q M⁻¹:
+    /// (Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ (Q − M q̈). It holds exactly for the q̈ of [`Dae`], whose own
+    /// multiplier solve this is (S λ = Φ_q M⁻¹ Q − Φ_q q̈ with Φ_q q̈ = γ − 2αΦ̇ − β²Φ), and
+    /// it is solved the same way: [`Schur`], structure found once at [`DaeResidual::new`],
+    /// dense Cholesky for a few rows and the skyline for chains of many loops, instead of a
+    /// dense m × m normal matrix (O(m³) per restart).
     fn consistent_values(
         &self,
         t: f64,
@@ -352,7 +374,6 @@ impl ResidualForm for DaeResidual {
     ) -> Result<(), FormulationError> {
         let n = self.energy_index();
         let nc = self.n_coordinates();
-        let ma = self.active.len();
         yy[..n].copy_from_slice(&y[..n]);
         yp[..n].copy_from_slice(&dy[..n]);
         yp[n..].fill(0.0);
@@ -361,6 +382,7 @@ impl ResidualForm for DaeResidual {
             sin_cos,
             forces,
             ce,
+            schur,
             ..
         } = &mut *work;
         let (q, v, s) = (&y[..nc], &y[nc..2 * nc], &y[2 * nc..self.energy_index()]);
@@ -371,22 +393,28 @@ impl ResidualForm for DaeResidual {
         for (k, f) in forces.iter_mut().enumerate() {
             *f -= self.mass[k] * acc[k];
         }
-        let mut normal = vec![0.0; ma * ma];
-        let lambda = &mut yy[n..];
-        for (i, &ri) in self.active.iter().enumerate() {
-            let row_i = &ce.rows[ri];
-            lambda[i] = row_i.dot_velocity(forces);
-            for (j, &rj) in self.active.iter().enumerate().take(i + 1) {
-                normal[i * ma + j] = row_dot(row_i, &ce.rows[rj]);
-            }
-        }
-        if let Err(pivot) = cholesky::factor(&mut normal, ma) {
+        if let Err(k) = schur.factor(&ce.rows, &self.active, &self.inv_mass, 0.0) {
             return Err(FormulationError::SingularConstraints {
                 t,
-                constraint: self.constraints.row_name(&self.model, self.active[pivot]),
+                constraint: self.constraints.row_name(&self.model, self.active[k]),
             });
         }
-        cholesky::solve(&normal, ma, lambda);
+        // Φ_q M⁻¹ (Q − M q̈) by row blocks, with M⁻¹ Φ_qᵀ as `factor` left it.
+        let lambda = &mut yy[n..];
+        for (i, &ri) in self.active.iter().enumerate() {
+            let row = &ce.rows[ri];
+            let w = &schur.weighted()[i];
+            let mut rhs = 0.0;
+            for (side, body) in [row.body_a, row.body_b].into_iter().enumerate() {
+                if let Some(b) = body {
+                    for c in 0..3 {
+                        rhs += w[side][c] * forces[3 * b + c];
+                    }
+                }
+            }
+            lambda[i] = rhs;
+        }
+        schur.solve(lambda);
         Ok(())
     }
 
@@ -510,22 +538,6 @@ impl ResidualForm for DaeResidual {
         let calls = self.difference_forces(t, yy, w, out)?;
         Ok(calls)
     }
-}
-
-/// Φ_q,i · Φ_q,j (both rows' blocks on shared bodies).
-fn row_dot(
-    a: &crate::mechanics::constraints::ConstraintRow,
-    b: &crate::mechanics::constraints::ConstraintRow,
-) -> f64 {
-    let mut sum = 0.0;
-    for (ba, ja) in [(a.body_a, a.jac_a), (a.body_b, a.jac_b)] {
-        for (bb, jb) in [(b.body_a, b.jac_a), (b.body_b, b.jac_b)] {
-            if ba.is_some() && ba == bb {
-                sum += ja[0] * jb[0] + ja[1] * jb[1] + ja[2] * jb[2];
-            }
-        }
-    }
-    sum
 }
 
 impl DaeResidual {

@@ -31,7 +31,7 @@
 //! | `explicit` | `ExplicitRk<P>`: any explicit pair with Hairer's controller, FSAL, lazy dense output, stiffness test |
 //! | `rk` | kernels shared by the pairs: counted RHS calls, stage sums, error scale |
 //! | `dopri5`, `dop853` | tableau, one step, error norm, dense output of each pair |
-//! | [`radau5`] | Radau IIA order 5: the method core, its [`Integrator`] adapter, a stand-alone driver |
+//! | [`radau5`] | Radau IIA order 5: the method core and its [`Integrator`] adapter |
 //! | `ida` | SUNDIALS IDA on the residual form (cargo feature `ida` only): the one `unsafe` wrapper and its [`Integrator`] adapter |
 //! | `control` | step-size controller and initial step (Hairer's `hinit`) |
 //! | [`stepper`] | [`Stepper`], the driver: one accepted step per call, [`Stop`] says why it stopped |

@@ -17,7 +17,9 @@ use serde::Serialize;
 ///   where the leading 1 is f(t0, y0) and `hinit` runs when no `h0` or fixed step is given
 ///   (a recovered rejection stops at the failing stage, so it costs fewer calls);
 /// * the explicit pairs make no Newton iterations and no Jacobians: `newton_iterations`,
-///   `newton_failures` and `jacobian_evals` are 0 for them.
+///   `newton_failures`, `jacobian_evals` and `jacobian_rhs_evals` are 0 for them.
+/// * `jacobian_rhs_evals ≤ rhs_evals`; with forward differences on n states,
+///   `jacobian_rhs_evals = n · jacobian_evals` for Radau5 (`tests/radau5_stiff_problems.rs`).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct SolverStats {
     /// Accepted steps, including steps cut short at an event that restarted the integrator.
@@ -41,6 +43,13 @@ pub struct SolverStats {
     pub jacobian_evals: u64,
     /// Calls of [`Formulation::rhs`](crate::formulation::Formulation::rhs), all included.
     pub rhs_evals: u64,
+    /// Of `rhs_evals`, those spent on finite-difference Jacobians
+    /// ([`Formulation::jacobian`](crate::formulation::Formulation::jacobian)'s default, n per
+    /// Jacobian for n states): Radau5, and IDA on a formulation it integrates as Ẏ − f(t, Y).
+    /// 0 with analytic Jacobians (the DAE, the reduced four-bar, IDA's residual form of the
+    /// DAE) and for the explicit pairs, so `rhs_evals − jacobian_rhs_evals` is what the method
+    /// itself spent.
+    pub jacobian_rhs_evals: u64,
     /// Of `rhs_evals`, the extra stages of DOP853's dense output (3 per interpolated step;
     /// always 0 for DOPRI5).
     pub dense_evals: u64,
@@ -96,6 +105,7 @@ mod tests {
             "newton_iterations",
             "jacobian_evals",
             "rhs_evals",
+            "jacobian_rhs_evals",
             "dense_evals",
             "events",
             "restarts",

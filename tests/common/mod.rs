@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod energy;
+pub mod fourbar;
 pub mod ode;
 
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs};

@@ -31,7 +31,10 @@
 //! iterations suffice and Newton stays on the branch the motion is on), never the result; their
 //! independent entries are overwritten by z. The flags (1 = independent, 0 = dependent, one
 //! per coordinate) hold the partition, a discrete state, in y like the stored impact velocities
-//! (`contacts.rs`): the equations stay a pure function of (t, y). Keeping the dependent entries
+//! (`contacts.rs`): the equations stay a pure function of (t, y). Their rates are 0 and they
+//! are out of error control, and they are read as "independent" when above 1/2, so an implicit
+//! solver that perturbs every unknown (IDA: Newton, predictor, interpolation) leaves the
+//! partition as it is. Keeping the dependent entries
 //! out of the error norm matters near a singular position, where their rates are 0/0 limits
 //! computed to a relative accuracy of ε/s only.
 //!
@@ -89,6 +92,16 @@ pub const POSITION_TOLERANCE: f64 = 1e-12;
 /// solution Newton needs one or two; more means the step was too large (the projection fails
 /// recoverably and the integrator retries with a smaller step).
 pub const MAX_NEWTON: usize = 8;
+
+/// Whether a stored partition flag marks an independent coordinate. The flags are written as
+/// exactly 1 (independent) and 0 (dependent), but an implicit solver treats every state as an
+/// unknown: IDA's Newton corrections, predictor and interpolation bring a flag back as 1 ± ε or
+/// ±ε (its rate is 0 and its error weight 0, so never further). The threshold halfway between
+/// reads both the same as the written values; a test for exactly 0 flipped a dependent
+/// coordinate to independent at the first perturbation.
+fn independent_flag(flag: f64) -> bool {
+    flag > 0.5
+}
 
 /// Buffers reused by every projection.
 #[derive(Debug, Clone)]
@@ -254,7 +267,7 @@ impl Generalized {
     pub fn independent(&self, y: &[f64]) -> Vec<usize> {
         let n = self.n_coordinates();
         (0..n)
-            .filter(|&i| y[self.flags_start() + i] != 0.0)
+            .filter(|&i| independent_flag(y[self.flags_start() + i]))
             .collect()
     }
 
@@ -337,7 +350,7 @@ impl Generalized {
         let mut j = 0;
         let mut k = 0;
         for c in 0..n {
-            if y[flags + c] == 0.0 {
+            if !independent_flag(y[flags + c]) {
                 if j == m {
                     return Err(self.bad_partition(m + 1));
                 }
@@ -634,7 +647,7 @@ impl Formulation for Generalized {
         self.best_partition(&mut work, &mut y[flags..flags + n]);
         let mut k = 0;
         for c in 0..n {
-            if y[flags + c] != 0.0 && k < self.n_indep {
+            if independent_flag(y[flags + c]) && k < self.n_indep {
                 y[k] = dae_state[c];
                 y[self.n_indep + k] = dae_state[n + c];
                 k += 1;
@@ -729,14 +742,18 @@ impl Formulation for Generalized {
         self.evaluate_at_projection(t, &mut w);
         let mut flags = vec![0.0; n];
         self.best_partition(&mut w, &mut flags);
-        if flags[..] == y[flags_at..flags_at + n] {
+        let unchanged = flags
+            .iter()
+            .zip(&y[flags_at..flags_at + n])
+            .all(|(&new, &stored)| independent_flag(new) == independent_flag(stored));
+        if unchanged {
             return EventResponse::Continue;
         }
         y[flags_at..flags_at + n].copy_from_slice(&flags);
         self.repartitions += 1;
         let mut k = 0;
         for (c, &flag) in flags.iter().enumerate() {
-            if flag != 0.0 && k < f {
+            if independent_flag(flag) && k < f {
                 y[k] = w.y[c];
                 y[f + k] = w.y[n + c];
                 k += 1;

@@ -52,6 +52,17 @@
 //!   [`FormulationError::is_recoverable`]) is returned to IDA as recoverable (> 0): IDA retries
 //!   with a smaller step. If IDA gives up, the error goes to the driver as it is, which retries
 //!   with a quarter of the step from the last accepted state (IDA re-initialised).
+//! * IDA accepts a step on the weighted norm of its Newton corrections and never evaluates the
+//!   residual at the corrected state. States out of that norm (weight 0: the generalized
+//!   formulation's warm start of its projection and its partition flags) can therefore end a
+//!   step where the equations cannot be evaluated — on the ideal four-bar, whose driver fixes
+//!   every coordinate, *every* weight is 0 and IDA doubled its step until the warm start was
+//!   radians off. So on the Ẏ − f(t, Y) path the attempt evaluates f once at the step's end
+//!   (counted in `rhs_evals`): a recoverable failure there rejects the attempt like a failing
+//!   stage of the other methods (the driver retries with a quarter of the step), so an accepted
+//!   step always ends at an evaluable state, as with the explicit pairs (FSAL) and Radau5 (its
+//!   last stage). The DAE's residual form has no such states (its only weight-0 unknowns, λ and
+//!   the stored impact velocities, are pinned by their rows) and skips the check.
 //! * Fixed steps (`--fixed-step`) are not available: IDA always controls its error.
 //!
 //! # References
@@ -500,8 +511,19 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
             }
         }
         stats.rhs_evals += equations.jacobian_rhs_calls;
-        let formulation_error = equations.error.take();
+        stats.jacobian_rhs_evals += equations.jacobian_rhs_calls;
+        let mut formulation_error = equations.error.take();
         self.add_counts(stats);
+        if outcome.is_ok() && self.ode {
+            // The step's end must be evaluable (see the module documentation).
+            let end = &mut self.scratch.full;
+            end.resize(self.n, 0.0);
+            stats.rhs_evals += 1;
+            if let Err(e) = f.rhs(trial.t_new, &self.yy[..self.n], end) {
+                formulation_error = Some((trial.t_new, e));
+                outcome = Err(None);
+            }
+        }
         match outcome {
             Ok(()) => {
                 self.solution[..self.n_s].copy_from_slice(&self.yy[..self.n_s]);
@@ -522,7 +544,7 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
                     f0: None,
                 });
                 match (failure, formulation_error) {
-                    (Some(_), Some((t, source))) => Err(SolveError::Formulation { t, source }),
+                    (_, Some((t, source))) => Err(SolveError::Formulation { t, source }),
                     (Some((t, e)), None) => Err(method_failure(t, e)),
                     (None, _) => Err(SolveError::MethodFailed {
                         t: trial.t,

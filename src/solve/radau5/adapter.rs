@@ -52,6 +52,7 @@ impl Radau5Method {
     fn add_counts(&self, before: &Radau5Stats, stats: &mut SolverStats) {
         let now = &self.local;
         stats.rhs_evals += now.rhs_evals - before.rhs_evals;
+        stats.jacobian_rhs_evals += now.jacobian_rhs_evals - before.jacobian_rhs_evals;
         stats.newton_iterations += now.newton_iterations - before.newton_iterations;
         stats.newton_failures += now.newton_failures - before.newton_failures;
         stats.jacobian_evals += now.jacobian_evals - before.jacobian_evals;
@@ -98,7 +99,10 @@ impl<F: Formulation + ?Sized> Integrator<F> for Radau5Method {
         );
         self.add_counts(&before, stats);
         Ok(match outcome? {
-            Outcome::Accepted { h_next } => Attempt::Accepted { h_next },
+            Outcome::Accepted { h_next } => {
+                self.local.record_step(trial.h); // `core_stats` reports steps and their sizes
+                Attempt::Accepted { h_next }
+            }
             Outcome::Rejected { h_next, cause } => Attempt::Rejected {
                 h_next,
                 cause: match cause {
