@@ -6,10 +6,13 @@
 //! form. Each run agrees with DOP853 at rtol 1e-11 on the same formulation within a bound
 //! derived from the tolerance, and finds the same impacts at the same times. The generalized
 //! formulation keeps its coordinate partition as 0/1 flags in y, which IDA perturbs like any
-//! unknown: the runs here check that the partition survives that.
+//! unknown: the runs here check that the partition survives that. And the generalized
+//! formulation of the ideal four-bar (every coordinate fixed by the driver, no state under
+//! error control) against the closed-form loop closure.
 #![cfg(feature = "ida")]
 
 mod common;
+use common::fourbar::{closed_form, unwrap_near};
 use common::*;
 use linkdyn::analysis::compare;
 use linkdyn::formulation::{Dae, DaeOptions, Generalized, ReducedLagrangian};
@@ -136,4 +139,53 @@ fn ida_on_the_generalized_formulation_at_250_rpm() {
 #[test]
 fn ida_on_the_generalized_formulation_at_3500_rpm() {
     assert_within("generalized", 3500.0, 25.0, 6.0);
+}
+
+/// The generalized formulation of the ideal four-bar has no independent coordinate: the
+/// constant-speed driver fixes every one, and each sample is the Newton projection onto
+/// Φ(q, t) = 0 (positions), Φ_q q̇ = −Φ_t and Φ_q q̈ = γ (rates, accelerations). IDA only
+/// carries the projection's warm start and the partition flags (none error-controlled, so IDA
+/// weights them all, `solve::ida`), and the angles, rates and accelerations are the closed
+/// form's to Newton's tolerance (1e-12 of the linkage's length scale) whatever the steps.
+/// Bound 1e-11, ten times that tolerance (errors scaled as in
+/// `tests/fourbar_ideal_kinematics.rs`); measured 2026-11-25: 1.7e-15 (Newton's last step
+/// lands at round-off). Without IDA's fallback weights the run failed at t = 0.42 s.
+#[test]
+fn ida_on_the_generalized_ideal_fourbar_matches_the_closed_form() {
+    let model = load("models/fourbar_ideal.toml", &[]);
+    let omega = 250.0 * std::f64::consts::PI / 30.0;
+    let t_end = 2.0 * 2.0 * std::f64::consts::PI / omega;
+    let rec = run("generalized", &model, Method::Ida, RTOL, t_end, 1e-3);
+    let names = [
+        "coupler.phi",
+        "rocker.phi",
+        "coupler.omega",
+        "rocker.omega",
+        "coupler.alpha",
+        "rocker.alpha",
+    ];
+    let cols: Vec<Vec<f64>> = names.iter().map(|c| col(&rec, c)).collect();
+    // Rates (~12 rad/s) and accelerations (~10³ rad/s²) amplify the angle error by ω and ω².
+    let scales = [1.0, 1.0, 12.0, 12.0, 1000.0, 1000.0];
+    let mut worst: f64 = 0.0;
+    for (i, t) in rec.t.iter().enumerate() {
+        let exact = closed_form(omega * t, omega);
+        for k in 0..6 {
+            let value = if k < 2 {
+                unwrap_near(exact[k], cols[k][i])
+            } else {
+                exact[k]
+            };
+            let err = (cols[k][i] - value).abs() / scales[k];
+            worst = worst.max(err);
+            assert!(
+                err < 1e-11,
+                "fourbar_ideal, generalized, IDA: {} at t = {t}: {} vs closed form {value} (scaled error {err:e}, bound 1e-11)",
+                names[k],
+                cols[k][i]
+            );
+        }
+    }
+    println!("fourbar_ideal, generalized, IDA: largest scaled error {worst:e}");
+    assert!(rec.len() > 400, "{} samples over two turns", rec.len());
 }
