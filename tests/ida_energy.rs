@@ -53,11 +53,15 @@ fn energy_bookkeeping_does_not_change_the_ida_motion() {
     // The integrals are worth having: driver work, external work and dissipation at the end
     // agree with DOP853's at rtol 1e-10 (whose own difference to rtol 1e-8 is 3e-9 J). The
     // rates are the DAE's own, at IDA's (q, v, s), so the integrals carry the trajectory's
-    // error: measured 1.4e-6 J (driver work) and 2.0e-6 J (dissipation) on 2026-11-23, against
-    // driver work that swings through ±12.5 J per turn. The bound, 1e-6 of that swing
-    // (1.25e-5 J), is six times the measured difference and a hundred times below a missed
-    // impact's share of the dissipation (≈ 0.4 J / 22). With IDA's own λ in the driver power
-    // the difference was 5e-3 J (`formulation::residual_dae`).
+    // error: measured 1.4e-6 J (driver work) and 2.0e-6 J (dissipation) on 2026-11-23, and
+    // 1.8e-5 J (driver work) on 2026-11-25 after the consistent λ at restarts moved by
+    // round-off (computed by the Schur complement): the two IDA runs, which differ only by that
+    // round-off, end 1.6e-5 J apart, so ~2e-5 J is the scatter of this integral at rtol 1e-8
+    // (impacts amplify round-off), against driver work that swings through ±12.5 J per turn
+    // (17 J largest |integral|). The bound, 5e-6 of that swing (8.5e-5 J), is four times the
+    // scatter and still two hundred times below a missed impact's share of the dissipation
+    // (≈ 0.4 J / 22). With IDA's own λ in the driver power the difference was 5e-3 J
+    // (`formulation::residual_dae`).
     let (reference, _, _) = run(true, Method::Dop853, 1e-10);
     let (Some((_, ida_end)), Some((_, ref_end))) =
         (booked.samples.last(), reference.samples.last())
@@ -74,7 +78,7 @@ fn energy_bookkeeping_does_not_change_the_ida_motion() {
         swing > 1.0,
         "the driver works: largest |integral| {swing:e} J"
     );
-    let bound = 1e-6 * swing;
+    let bound = 5e-6 * swing;
     for (k, name) in ["driver work", "external work", "dissipation"]
         .iter()
         .enumerate()
