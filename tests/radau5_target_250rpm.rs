@@ -16,7 +16,11 @@ use linkdyn::solve::{Method, Recorder, SolverOptions, SolverStats, integrate};
 /// 2 turns at 250 rpm (s).
 const T_END: f64 = 2.0 * 60.0 / 250.0;
 
-fn run<F: Formulation + Outputs + Clone>(f: &F, method: Method, rtol: f64) -> (Recorder, SolverStats) {
+fn run<F: Formulation + Outputs + Clone>(
+    f: &F,
+    method: Method,
+    rtol: f64,
+) -> (Recorder, SolverStats) {
     let mut f = f.clone();
     let opts = match SolverOptions::default()
         .method(method)

@@ -399,11 +399,14 @@ impl Radau5Core {
             0.0
         };
         // An otherwise acceptable step across an event crossing is cut there first.
-        if err < 1.0 && error_control && self.settings.cut_at_events && !self.cut_retry {
-            if let Some(h_cut) = self.event_cut(f, (t, y), (h, t_new)) {
-                self.cut_retry = true;
-                return Ok(self.reject_with(h_cut, Rejection::EventCut, stats));
-            }
+        if err < 1.0
+            && error_control
+            && self.settings.cut_at_events
+            && !self.cut_retry
+            && let Some(h_cut) = self.event_cut(f, (t, y), (h, t_new))
+        {
+            self.cut_retry = true;
+            return Ok(self.reject_with(h_cut, Rejection::EventCut, stats));
         }
         let s = &self.settings;
         let cfac = s.safety * (1.0 + 2.0 * nit as f64);
@@ -501,8 +504,8 @@ impl Radau5Core {
         // Past the crossing by 0.1 % of the way to it (the retry's own crossing moves by its
         // error); a crossing in the last 1 % of the step is left as it is.
         let h_cut = h * theta * 1.001;
-        let floor = 64.0 * f64::EPSILON * t.abs().max(h);
-        (theta < 0.99 && h_cut > floor).then_some(h_cut)
+        let floor = 64.0 * f64::EPSILON * t.abs().max(h.abs());
+        (theta < 0.99 && h_cut.abs() > floor).then_some(h_cut)
     }
 
     /// The polynomial of the current attempt at s = (τ − t_new)/h, minus its end value.
