@@ -106,7 +106,7 @@ impl<F: Formulation + ?Sized> Integrator<F> for Radau5Method {
             Outcome::Rejected { h_next, cause } => Attempt::Rejected {
                 h_next,
                 cause: match cause {
-                    CoreRejection::ErrorTest => Rejection::ErrorTest,
+                    CoreRejection::ErrorTest | CoreRejection::EventCut => Rejection::ErrorTest,
                     CoreRejection::NewtonFailure => Rejection::NewtonFailure,
                     CoreRejection::NonFinite => Rejection::NonFinite,
                 },

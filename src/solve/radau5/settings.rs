@@ -19,6 +19,7 @@ use crate::solve::SolveError;
 /// | `newton_tol` | `None`: max(10u/rtol', min(0.03, √rtol')) | `FNEWT` |
 /// | `hairer_tolerances` | true | (the transform in `RADAU5`) |
 /// | `error_mask` | `None`: every component is error-controlled | — |
+/// | `cut_at_events` | true | — |
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Radau5Settings {
     /// Largest number of simplified Newton iterations per step attempt.
@@ -47,6 +48,11 @@ pub struct Radau5Settings {
     /// norms (bookkeeping states such as accumulated work or a stored impact velocity are
     /// left out). Length n.
     pub error_mask: Option<Vec<bool>>,
+    /// With error control: an accepted attempt across which an event function
+    /// ([`Formulation::events`](crate::formulation::Formulation::events)) changes sign is
+    /// retried once, ending just past the crossing, so that the law that changes at the event
+    /// does not enter the polynomial the event state is read from (see `core.rs`).
+    pub cut_at_events: bool,
 }
 
 impl Default for Radau5Settings {
@@ -61,6 +67,7 @@ impl Default for Radau5Settings {
             newton_tol: None,
             hairer_tolerances: true,
             error_mask: None,
+            cut_at_events: true,
         }
     }
 }
@@ -91,6 +98,13 @@ impl Radau5Settings {
     #[must_use]
     pub fn predictive(mut self, on: bool) -> Self {
         self.predictive = on;
+        self
+    }
+
+    /// Switches the cut of steps at event crossings on or off.
+    #[must_use]
+    pub fn cut_at_events(mut self, on: bool) -> Self {
+        self.cut_at_events = on;
         self
     }
 
@@ -187,8 +201,11 @@ pub struct Radau5Stats {
     /// Step attempts rejected because Newton diverged, was predicted too slow, used up
     /// `max_newton_iter`, or an iteration matrix was singular.
     pub newton_failures: u64,
-    /// Step attempts rejected by the error test.
+    /// Step attempts rejected by the error test (event cuts included).
     pub error_test_failures: u64,
+    /// Of `error_test_failures`, attempts retried shorter because an event function changed
+    /// sign inside them ([`Radau5Settings::cut_at_events`]).
+    pub event_cuts: u64,
     /// Step attempts rejected because the RHS failed recoverably (a trial stage overshooting
     /// into a contact, [`FormulationError::is_recoverable`](crate::formulation::FormulationError::is_recoverable)).
     pub recovered_rejections: u64,

@@ -1,0 +1,85 @@
+//! Issue 11 §4's target for the implicit integrator, stated as work: on farahan2016 at 250
+//! rpm over 2 crank turns, an angle error ≤ 1e-8 rad against a tight reference in fewer than
+//! 35 000 right-hand-side evaluations (LSODA's count there). RHS counts are deterministic,
+//! so this is an assertion, not a timing; wall time is in `benches/radau5.rs`.
+//!
+//! Met by the DAE (Radau5, rtol 3e-9, with the cut of steps at events); not by the reduced
+//! formulation, whose error stays ragged at 1e-7…1e-8 rad (docs/numerics.md, "Radau5 at
+//! events").
+
+mod common;
+
+use common::load;
+use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs};
+use linkdyn::solve::{Method, Recorder, SolverOptions, SolverStats, integrate};
+
+/// 2 turns at 250 rpm (s).
+const T_END: f64 = 2.0 * 60.0 / 250.0;
+
+fn run<F: Formulation + Outputs + Clone>(
+    f: &F,
+    method: Method,
+    rtol: f64,
+) -> (Recorder, SolverStats) {
+    let mut f = f.clone();
+    let opts = match SolverOptions::default()
+        .method(method)
+        .rtol(rtol)
+        .atol(rtol * 1e-3)
+        .build()
+    {
+        Ok(o) => o,
+        Err(e) => panic!("{e}"),
+    };
+    let y0 = f.initial_state();
+    let mut rec = Recorder::new(&f);
+    // The work-precision grid: 4000 samples over the run.
+    match integrate(&mut f, 0.0, &y0, T_END, T_END / 4000.0, &opts, &mut rec) {
+        Ok(stats) => (rec, stats),
+        Err(e) => panic!("{method} at rtol {rtol:e}: {e}"),
+    }
+}
+
+/// Largest |Δφ| of the coupler and the rocker over the common samples (rad).
+fn angle_error(a: &Recorder, b: &Recorder) -> f64 {
+    let mut worst: f64 = 0.0;
+    for col in ["coupler.phi", "rocker.phi"] {
+        let (Some(x), Some(y)) = (a.column(col), b.column(col)) else {
+            panic!("no column {col}");
+        };
+        assert_eq!(x.len(), y.len(), "{col}: sample counts differ");
+        for (p, q) in x.iter().zip(&y) {
+            worst = worst.max((p - q).abs());
+        }
+    }
+    worst
+}
+
+#[test]
+fn dae_radau5_reaches_1e_8_rad_in_fewer_than_35k_rhs() {
+    let model = load("models/farahan2016.toml", &[]);
+    let dae = match Dae::new(&model, &DaeOptions::default()) {
+        Ok(d) => d,
+        Err(e) => panic!("{e}"),
+    };
+    // DOP853 at rtol 1e-12: 1.7e-11 rad from DOPRI5 at the same tolerance (docs/numerics.md).
+    let (reference, _) = run(&dae, Method::Dop853, 1e-12);
+    let (rec, stats) = run(&dae, Method::Radau5, 3e-9);
+    assert_eq!(
+        rec.events.len(),
+        reference.events.len(),
+        "impacts and separations: Radau5 {}, reference {}",
+        rec.events.len(),
+        reference.events.len()
+    );
+    let err = angle_error(&rec, &reference);
+    // Measured: 7.9e-9 rad with 34 924 RHS (Jacobians are analytic: no RHS calls). Both bounds
+    // are the issue's; the margin is small (the errors of this rattling journal are ragged in
+    // rtol, docs/numerics.md), so a change of the DAE's equations or of the Newton iteration
+    // that moves them shows here first.
+    assert!(
+        err <= 1e-8 && stats.rhs_evals < 35_000,
+        "DAE Radau5 rtol 3e-9: angle error {err:e} rad with {} RHS ({stats:?})",
+        stats.rhs_evals
+    );
+}
