@@ -2,7 +2,7 @@
 //! bookkeeping, starting values, the simplified Newton iteration, the error estimate, the
 //! step-size proposal and the dense output (RADAU5's `RADCOR`, `SLVRAD`, `ESTRAD`, `CONTR5`).
 //!
-//! The caller (the driver [`Radau5`](super::Radau5), or the integrator trait's driver) owns
+//! The caller (the integrator trait's driver, through [`Radau5Method`](super::Radau5Method)) owns
 //! (t, y), clamps h, counts accepted steps and retries recoverable RHS failures; the core keeps
 //! f(t, y), the Jacobian, the LU factors, the step-size history and the last collocation
 //! polynomial. An attempt changes that committed state only when it is accepted.

@@ -5,7 +5,7 @@ use serde::Serialize;
 
 use crate::solve::SolveError;
 
-/// Settings specific to [`Radau5`](super::Radau5), with Hairer's defaults from `radau5.f`
+/// Settings specific to [`Radau5Method`](super::Radau5Method), with Hairer's defaults from `radau5.f`
 /// (used with error control; fixed-step mode iterates Newton to rounding level instead).
 ///
 /// | setting | default | Hairer's name |
@@ -176,7 +176,7 @@ impl Radau5Settings {
     }
 }
 
-/// Counters of a [`Radau5`](super::Radau5) run.
+/// Counters of a [`Radau5Method`](super::Radau5Method) run.
 ///
 /// Every step attempt is either accepted (`steps`) or rejected (`rejected`), and each
 /// rejection has one cause: `rejected = error_test_failures + newton_failures +
