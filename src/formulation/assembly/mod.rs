@@ -231,6 +231,20 @@ pub fn assemble_with(
     t0: f64,
     solver: RankSolver,
 ) -> Result<Assembly, FormulationError> {
+    assemble_steps(model, set, dynamic, t0, solver, SchurSolver::Auto)
+}
+
+/// [`assemble_with`], the dense path's shifted normal equations stored as `normal` says
+/// (`SchurSolver::Dense`: never used, every dense step is the SVD's pseudo-inverse, the
+/// reference the tests compare the sparse steps with).
+fn assemble_steps(
+    model: &Model,
+    set: &ConstraintSet,
+    dynamic: &ConstraintSet,
+    t0: f64,
+    solver: RankSolver,
+    normal: SchurSolver,
+) -> Result<Assembly, FormulationError> {
     let n = 3 * model.bodies.len();
     let m = set.n_rows();
     let mut q: Vec<f64> = model
@@ -258,7 +272,7 @@ pub fn assemble_with(
         }
     } else {
         let all: Vec<usize> = (0..m).collect();
-        Steps::Dense(Schur::new(&eval.rows, &all, SchurSolver::Auto))
+        Steps::Dense(Schur::new(&eval.rows, &all, normal))
     };
     while residual > POSITION_TOLERANCE && iterations < MAX_ITERATIONS {
         iterations += 1;
@@ -273,7 +287,7 @@ pub fn assemble_with(
             }
             Steps::Sparse { basis, step } => {
                 basis.factor(&eval.rows, RANK_TOLERANCE);
-                basis.least_norm_into(&eval.rows, &eval.phi, step);
+                basis.least_squares_into(&eval.rows, &eval.phi, step);
                 step
             }
         };
@@ -378,7 +392,7 @@ fn project_velocities_sparse(
         .map(|(row, pt)| row.dot_velocity(guess) + pt)
         .collect();
     let mut correction = vec![0.0; guess.len()];
-    basis.least_norm_into(&eval.rows, &defect, &mut correction);
+    basis.least_squares_into(&eval.rows, &defect, &mut correction);
     let v: Vec<f64> = guess.iter().zip(&correction).map(|(g, c)| g - c).collect();
     let residual = eval
         .rows

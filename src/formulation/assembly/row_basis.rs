@@ -41,7 +41,10 @@
 //!    orthogonalization process, *Computers & Mathematics with Applications* 50 (2005) 1069–1075.
 //! 3. T. A. Davis, *Direct Methods for Sparse Linear Systems*, SIAM, 2006, §4.1–4.4
 //!    (elimination tree, row patterns by `ereach`, up-looking Cholesky).
+//! 4. Å. Björck, *Numerical Methods for Least Squares Problems*, SIAM, 1996, §2.8.4 (the
+//!    corrected semi-normal equations) and §1.2.5 (pseudo-inverse of a product).
 
+use super::super::cholesky;
 use crate::mechanics::constraints::ConstraintRow;
 
 /// Relative distance (of a row from the span of the rows before it) below which the pivot is
@@ -90,6 +93,29 @@ pub struct RowBasis {
     x: Vec<f64>,
     y: Vec<f64>,
     r: Vec<f64>,
+    /// Buffers of [`RowBasis::least_squares_into`] (grown once, then reused).
+    fits: Fits,
+}
+
+/// The fits Φ_q,k = Σ_i c_ki Φ_q,i of the dependent rows k (the matrix C of
+/// [`RowBasis::least_squares_into`]) and the d × d system I + C Cᵀ.
+#[derive(Debug, Clone, Default)]
+struct Fits {
+    rows: Vec<usize>,
+    start: Vec<usize>,
+    column: Vec<usize>,
+    value: Vec<f64>,
+    /// A row-length scratch vector (zero between uses) and the right-hand side w.
+    dense: Vec<f64>,
+    w: Vec<f64>,
+    u: Vec<f64>,
+    h: Vec<f64>,
+    /// Whether C and h belong to the current factor, and whether h factored.
+    ready: bool,
+    factored: bool,
+    /// The refinement's residual (rows) and correction (coordinates).
+    s: Vec<f64>,
+    dx: Vec<f64>,
 }
 
 /// The two (body, block) pairs of a row.
@@ -232,6 +258,13 @@ impl RowBasis {
             x: vec![0.0; m],
             y: vec![0.0; m],
             r: vec![0.0; n],
+            fits: Fits {
+                dense: vec![0.0; m],
+                w: vec![0.0; m],
+                s: vec![0.0; m],
+                dx: vec![0.0; n],
+                ..Fits::default()
+            },
         }
     }
 
@@ -260,6 +293,7 @@ impl RowBasis {
     /// the span of the independent rows before it (module doc).
     pub fn factor(&mut self, rows: &[ConstraintRow], rank_tolerance: f64) {
         debug_assert_eq!(rows.len(), self.m, "the rows given at construction");
+        self.fits.ready = false;
         self.g_values.fill(0.0);
         for c in &self.couplings {
             let a = blocks(&rows[c.i])[c.side_i as usize].1;
@@ -361,21 +395,157 @@ impl RowBasis {
         }
     }
 
+    /// x = Φ_q⁺ r, the minimum-norm least-squares solution of Φ_q x = r over all rows, as the
+    /// dense SVD's pseudo-inverse gives it, where r need not be consistent with the dependent
+    /// rows (a Newton iterate off the solution of an over-constrained linkage, a linkage that
+    /// cannot be assembled).
+    ///
+    /// With I the independent rows, D the dependent ones and C their fits (Φ_q,D = C Φ_q,I),
+    /// Φ_q = B Φ_q,I with B = [1; C] of full column rank and Φ_q,I of full row rank, so
+    /// Φ_q⁺ = Φ_q,I⁺ B⁺ (ref. 4, §1.2.5) and
+    ///
+    /// ```text
+    ///     x = Φ_q,Iᵀ G_II⁻¹ w,   (1 + Cᵀ C) w = r_I + Cᵀ r_D,
+    ///     (1 + Cᵀ C)⁻¹ = 1 − Cᵀ (1 + C Cᵀ)⁻¹ C        (Sherman–Morrison–Woodbury)
+    /// ```
+    ///
+    /// with 1 + C Cᵀ of the size of D (one row per redundant joint) and positive definite.
+    /// For r consistent (r_D = C r_I) it is [`RowBasis::least_norm_into`]'s step.
+    ///
+    /// The normal equations square the condition number of Φ_q, so one step of iterative
+    /// refinement in coordinate space follows (the corrected semi-normal equations, ref. 4):
+    /// x += Φ_q⁺ (r − Φ_q x) with the same factors. It brings the step to the accuracy of the
+    /// SVD's near a position where a singular value of Φ_q is small (an iterate approaching the
+    /// solution of an over-constrained linkage, where the rank drops), as long as
+    /// cond(Φ_q) < 1/√ε.
+    pub fn least_squares_into(&mut self, rows: &[ConstraintRow], r: &[f64], x: &mut [f64]) {
+        self.least_squares_once(rows, r, x);
+        let mut s = std::mem::take(&mut self.fits.s);
+        let mut dx = std::mem::take(&mut self.fits.dx);
+        for ((sk, row), rk) in s.iter_mut().zip(rows).zip(r) {
+            *sk = rk - row.dot_velocity(x);
+        }
+        self.least_squares_once(rows, &s, &mut dx);
+        for (xi, di) in x.iter_mut().zip(&dx) {
+            *xi += di;
+        }
+        self.fits.s = s;
+        self.fits.dx = dx;
+    }
+
+    /// One application of the formula of [`RowBasis::least_squares_into`] (C and the
+    /// factor of 1 + C Cᵀ computed at the first call after [`RowBasis::factor`]).
+    fn least_squares_once(&mut self, rows: &[ConstraintRow], r: &[f64], x: &mut [f64]) {
+        if !self.fits.ready {
+            self.prepare_fits(rows);
+        }
+        let mut f = std::mem::take(&mut self.fits);
+        let d = f.rows.len();
+        if d > 0 {
+            // w = r_I + Cᵀ r_D (zero on D), u = C w, w −= Cᵀ (1 + C Cᵀ)⁻¹ u.
+            f.w.copy_from_slice(r);
+            for (a, &k) in f.rows.iter().enumerate() {
+                f.w[k] = 0.0;
+                for e in f.start[a]..f.start[a + 1] {
+                    f.w[f.column[e]] += f.value[e] * r[k];
+                }
+            }
+            if f.factored {
+                f.u.clear();
+                for a in 0..d {
+                    let ua = (f.start[a]..f.start[a + 1])
+                        .map(|e| f.value[e] * f.w[f.column[e]])
+                        .sum();
+                    f.u.push(ua);
+                }
+                cholesky::solve(&f.h, d, &mut f.u);
+                for a in 0..d {
+                    for e in f.start[a]..f.start[a + 1] {
+                        f.w[f.column[e]] -= f.value[e] * f.u[a];
+                    }
+                }
+            }
+        }
+        let w = std::mem::take(&mut f.w);
+        self.fits = f;
+        if d > 0 {
+            self.least_norm_into(rows, &w, x);
+        } else {
+            self.least_norm_into(rows, r, x);
+        }
+        self.fits.w = w;
+    }
+
+    /// C (the fit of each dependent row by the independent rows before it) and the Cholesky
+    /// factor of 1 + C Cᵀ, for the factor of the last [`RowBasis::factor`].
+    fn prepare_fits(&mut self, rows: &[ConstraintRow]) {
+        let mut f = std::mem::take(&mut self.fits);
+        f.ready = true;
+        f.rows.clear();
+        f.rows.extend((0..self.m).filter(|&k| self.dependent[k]));
+        let d = f.rows.len();
+        f.start.clear();
+        f.column.clear();
+        f.value.clear();
+        for &k in &f.rows {
+            f.start.push(f.column.len());
+            self.combination_into(rows, k, &mut f.dense[..k]);
+            for (i, c) in f.dense[..k].iter_mut().enumerate() {
+                if *c != 0.0 && !self.dependent[i] {
+                    f.column.push(i);
+                    f.value.push(*c);
+                }
+                *c = 0.0;
+            }
+        }
+        f.start.push(f.column.len());
+        // 1 + C Cᵀ (lower triangle), by scattering each row of C once.
+        f.h.clear();
+        f.h.resize(d * d, 0.0);
+        for a in 0..d {
+            for e in f.start[a]..f.start[a + 1] {
+                f.dense[f.column[e]] = f.value[e];
+            }
+            for b in 0..=a {
+                let dot: f64 = (f.start[b]..f.start[b + 1])
+                    .map(|e| f.value[e] * f.dense[f.column[e]])
+                    .sum();
+                f.h[a * d + b] = dot + if a == b { 1.0 } else { 0.0 };
+            }
+            for e in f.start[a]..f.start[a + 1] {
+                f.dense[f.column[e]] = 0.0;
+            }
+        }
+        // Positive definite (eigenvalues ≥ 1) unless a value is NaN: then the consistent step.
+        f.factored = cholesky::factor(&mut f.h, d).is_ok();
+        self.fits = f;
+    }
+
     /// Coefficients c of the least-squares fit Φ_q,k ≈ Σ_{i<k} c_i Φ_q,i by the independent
     /// rows before k (0 for the dependent ones), into `c[..k]`.
     pub fn combination_into(&mut self, rows: &[ConstraintRow], k: usize, c: &mut [f64]) {
+        // c = G_PP⁻¹ Φ_q,P Φ_q,kᵀ, then once more on the residual Φ_q,k − Φ_q,Pᵀ c in
+        // coordinate space (the corrected semi-normal equations, ref. 4), which the normal
+        // equations alone get wrong by ε cond(Φ_q,P)² relative.
+        c[..k].fill(0.0);
         self.r.fill(0.0);
         scatter(&rows[k], 1.0, &mut self.r);
-        for (ci, row) in c[..k].iter_mut().zip(&rows[..k]) {
-            *ci = row.dot_velocity(&self.r);
+        for _ in 0..2 {
+            for (yi, row) in self.y[..k].iter_mut().zip(&rows[..k]) {
+                *yi = row.dot_velocity(&self.r);
+            }
+            solve_leading(
+                &self.col_start,
+                &self.col_row,
+                &self.values,
+                &self.inv_diag,
+                &mut self.y[..k],
+            );
+            for ((ci, yi), row) in c[..k].iter_mut().zip(&self.y[..k]).zip(rows) {
+                *ci += yi;
+                scatter(row, -yi, &mut self.r);
+            }
         }
-        solve_leading(
-            &self.col_start,
-            &self.col_row,
-            &self.values,
-            &self.inv_diag,
-            &mut c[..k],
-        );
     }
 }
 
