@@ -26,6 +26,7 @@
 //! 1. J. Nocedal, S. J. Wright, *Numerical Optimization*, 2nd ed., Springer, 2006, §10.3
 //!    (Levenberg–Marquardt as regularised least norm).
 
+pub(crate) mod diameter;
 pub mod row_basis;
 #[cfg(test)]
 mod tests;
