@@ -39,7 +39,10 @@
 /// `(a[0] − b[0]).hypot(a[1] − b[1])` over all pairs (0 for fewer than two points; pairs
 /// whose distance is NaN are ignored, as `f64::max` ignores them).
 pub fn diameter(points: &[[f64; 2]]) -> f64 {
-    if points.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
+    if points
+        .iter()
+        .any(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
         // Not from an assembled model: the plain loop keeps the NaN and ∞ behaviour.
         return all_pairs(points, (0..points.len()).collect());
     }
@@ -65,7 +68,10 @@ pub fn diameter(points: &[[f64; 2]]) -> f64 {
         ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
         |(lo, hi), &i| {
             let p = points[i];
-            ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+            (
+                [lo[0].min(p[0]), lo[1].min(p[1])],
+                [hi[0].max(p[0]), hi[1].max(p[1])],
+            )
         },
     );
     let eps = 1e-6 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]);

@@ -332,9 +332,8 @@ fn assemble_steps(
     // Velocities: the ideal-joint velocity analysis on the same rows; where that is inconsistent
     // (a clearance joint held as a revolute joint while a driver moves its journal relative to
     // its bearing), only the rows of the dynamics, `dynamic`.
-    let consistent = |defect: f64, phi_t: &[f64]| {
-        defect <= VELOCITY_TOLERANCE * (1.0 + max_abs(phi_t))
-    };
+    let consistent =
+        |defect: f64, phi_t: &[f64]| defect <= VELOCITY_TOLERANCE * (1.0 + max_abs(phi_t));
     let (redundant_rows, v) = match &mut steps {
         Steps::Dense(_) => {
             let jac = dense_jacobian(&eval, n);
@@ -399,7 +398,9 @@ fn project_velocities_sparse(
         .rows
         .iter()
         .zip(&eval.phi_t)
-        .fold(0.0_f64, |w, (row, pt)| w.max((row.dot_velocity(&v) + pt).abs()));
+        .fold(0.0_f64, |w, (row, pt)| {
+            w.max((row.dot_velocity(&v) + pt).abs())
+        });
     (v, residual)
 }
 
@@ -469,7 +470,9 @@ impl RowFit {
     /// (row, coefficient) over the independent rows before k of the least-squares fit of
     /// Φ_q,k; `redundant` lists the dependent rows.
     fn fit(&mut self, rows: &[ConstraintRow], k: usize, redundant: &[usize]) -> Vec<(usize, f64)> {
-        let independent: Vec<usize> = (0..k).filter(|i| redundant.binary_search(i).is_err()).collect();
+        let independent: Vec<usize> = (0..k)
+            .filter(|i| redundant.binary_search(i).is_err())
+            .collect();
         match self {
             RowFit::Dense(jac) => {
                 let c = combination(jac, k, &independent);

@@ -43,7 +43,9 @@ impl Chain {
             .map(|i| format!("G{i} = [{}, 0.0]", i as f64 * A))
             .collect();
         if self.third_crank {
-            ground.extend((1..=self.loops).map(|k| format!("H{k} = [{}, 0.0]", (k as f64 - 0.5) * A)));
+            ground.extend(
+                (1..=self.loops).map(|k| format!("H{k} = [{}, 0.0]", (k as f64 - 0.5) * A)),
+            );
         }
         text += &ground.join(", ");
         text += " }\n";
@@ -88,14 +90,38 @@ impl Chain {
             )
         };
         for i in 0..=self.loops {
-            text += &joint(format!("pivot{i}"), "ground".into(), &format!("G{i}"), format!("link{i}"), "P");
+            text += &joint(
+                format!("pivot{i}"),
+                "ground".into(),
+                &format!("G{i}"),
+                format!("link{i}"),
+                "P",
+            );
         }
         for k in 1..=self.loops {
             let coupler = format!("coupler{k}");
-            text += &joint(format!("left{k}"), format!("link{}", k - 1), "T", coupler.clone(), "A");
-            text += &joint(format!("right{k}"), format!("link{k}"), "T", coupler.clone(), "B");
+            text += &joint(
+                format!("left{k}"),
+                format!("link{}", k - 1),
+                "T",
+                coupler.clone(),
+                "A",
+            );
+            text += &joint(
+                format!("right{k}"),
+                format!("link{k}"),
+                "T",
+                coupler.clone(),
+                "B",
+            );
             if self.third_crank {
-                text += &joint(format!("hang{k}"), "ground".into(), &format!("H{k}"), format!("mid{k}"), "P");
+                text += &joint(
+                    format!("hang{k}"),
+                    "ground".into(),
+                    &format!("H{k}"),
+                    format!("mid{k}"),
+                    "P",
+                );
                 text += &joint(format!("tip{k}"), format!("mid{k}"), "T", coupler, "M");
             }
         }
@@ -124,7 +150,9 @@ fn residuals(model: &Model, a: &Assembly) -> (f64, f64) {
 }
 
 fn max_difference(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
+    a.iter()
+        .zip(b)
+        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
 }
 
 #[test]
@@ -143,11 +171,12 @@ fn sparse_and_dense_find_the_same_redundant_rows_and_positions() {
             loops,
             third_crank,
             longer_coupler: None,
-        longer_crank: None,
+            longer_crank: None,
             disturb,
         }
         .model();
-        let dense = assemble_by(&model, RankSolver::Dense).unwrap_or_else(|e| panic!("{case}: {e}"));
+        let dense =
+            assemble_by(&model, RankSolver::Dense).unwrap_or_else(|e| panic!("{case}: {e}"));
         let sparse =
             assemble_by(&model, RankSolver::Sparse).unwrap_or_else(|e| panic!("{case}: {e}"));
         // One degree of freedom; with the third cranks one redundant row per loop.
@@ -166,8 +195,14 @@ fn sparse_and_dense_find_the_same_redundant_rows_and_positions() {
         // with the chain's length), so 2e-3 of the distance travelled there.
         let (phi_sparse, phi_dot_sparse) = residuals(&model, &sparse);
         let (phi_dense, _) = residuals(&model, &dense);
-        assert!(phi_sparse <= POSITION_TOLERANCE, "{case}: |Φ| = {phi_sparse:e}");
-        assert!(phi_dense <= POSITION_TOLERANCE, "{case}: dense |Φ| = {phi_dense:e}");
+        assert!(
+            phi_sparse <= POSITION_TOLERANCE,
+            "{case}: |Φ| = {phi_sparse:e}"
+        );
+        assert!(
+            phi_dense <= POSITION_TOLERANCE,
+            "{case}: dense |Φ| = {phi_dense:e}"
+        );
         let guess: Vec<f64> = model
             .bodies
             .iter()
@@ -182,8 +217,15 @@ fn sparse_and_dense_find_the_same_redundant_rows_and_positions() {
             "{case}: positions differ by {dq:e} after travelling {travel:e}"
         );
         let (set, dynamic) = sets(&model);
-        let pinv = assemble_steps(&model, &set, &dynamic, 0.0, RankSolver::Dense, SchurSolver::Dense)
-            .unwrap_or_else(|e| panic!("{case}: {e}"));
+        let pinv = assemble_steps(
+            &model,
+            &set,
+            &dynamic,
+            0.0,
+            RankSolver::Dense,
+            SchurSolver::Dense,
+        )
+        .unwrap_or_else(|e| panic!("{case}: {e}"));
         let dp = max_difference(&sparse.q, &pinv.q);
         assert!(
             dp <= 1e-7 * travel + 1e-13,
@@ -193,7 +235,10 @@ fn sparse_and_dense_find_the_same_redundant_rows_and_positions() {
         // Φ_q q̇ = 0, at positions dq apart; with |q̇| ~ 1 and links of 0.2–0.3 m they differ by
         // a few dq (100 dq as margin) and the round-off of the projection.
         let dv = max_difference(&sparse.v, &dense.v);
-        assert!(phi_dot_sparse < 1e-10, "{case}: |Φ_q q̇| = {phi_dot_sparse:e}");
+        assert!(
+            phi_dot_sparse < 1e-10,
+            "{case}: |Φ_q q̇| = {phi_dot_sparse:e}"
+        );
         assert!(
             dv <= 100.0 * dq + 1e-10,
             "{case}: velocities differ by {dv:e} (positions by {dq:e})"
@@ -205,7 +250,11 @@ fn sparse_and_dense_find_the_same_redundant_rows_and_positions() {
             redundant_rows_checked_with(&model, &dynamic, &sparse.q, &sparse.v, 0.0, solver)
                 .unwrap_or_else(|e| panic!("{case}: {e}"))
         };
-        assert_eq!(checked(RankSolver::Sparse), checked(RankSolver::Dense), "{case}");
+        assert_eq!(
+            checked(RankSolver::Sparse),
+            checked(RankSolver::Dense),
+            "{case}"
+        );
     }
 }
 
@@ -223,7 +272,11 @@ fn the_redundant_rows_are_the_last_rows_of_each_third_crank() {
     .model();
     let a = assemble_by(&model, RankSolver::Sparse).unwrap_or_else(|e| panic!("{e}"));
     let (set, _) = sets(&model);
-    let names: Vec<String> = a.redundant_rows.iter().map(|&k| set.row_name(&model, k)).collect();
+    let names: Vec<String> = a
+        .redundant_rows
+        .iter()
+        .map(|&k| set.row_name(&model, k))
+        .collect();
     let expected: Vec<String> = (1..=30).map(|k| format!("tip{k}.y")).collect();
     assert_eq!(names, expected);
 }
@@ -254,7 +307,9 @@ fn a_third_crank_that_cannot_reach_is_named_by_both_paths() {
         for solver in [RankSolver::Dense, RankSolver::Sparse] {
             let case = format!("loop {bad}, crank {extra} m too long, {solver:?}");
             match assemble_by(&model, solver) {
-                Err(FormulationError::Unassemblable { joint, residual, .. }) => {
+                Err(FormulationError::Unassemblable {
+                    joint, residual, ..
+                }) => {
                     assert!(
                         loop_joints.contains(&joint),
                         "{case}: named {joint} (residual {residual:e})"
@@ -302,4 +357,3 @@ fn row_basis_fit_reproduces_a_dependent_row() {
         assert!(err < 1e-12, "row {k}: the fit is off by {err:e}");
     }
 }
-
