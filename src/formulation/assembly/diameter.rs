@@ -194,7 +194,7 @@ mod tests {
                     // Twins from 1e-13 down to a few ulps apart (where the hull's orientation
                     // test is round-off, and may keep either twin), and points off the segment
                     // by round-off.
-                    let size = 10f64.powi(-13 - (k as i32 % 4));
+                    let size = 10f64.powi(-13 - (k % 4));
                     let twin = [size * (rng.next() - 0.5), size * (rng.next() - 0.5)];
                     points.push([p[0] + twin[0], p[1] + twin[1]]);
                 }

@@ -214,7 +214,10 @@ pub fn assemble(
 /// [`RowBasis`] with its step buffer.
 enum Steps {
     Dense(Schur),
-    Sparse { basis: RowBasis, step: Vec<f64> },
+    Sparse {
+        basis: Box<RowBasis>,
+        step: Vec<f64>,
+    },
 }
 
 /// [`assemble`] with the rank and least-norm machinery chosen by `solver`.
@@ -268,7 +271,7 @@ fn assemble_steps(
     let mut iterations = 0;
     let mut steps = if solver.is_sparse(m) {
         Steps::Sparse {
-            basis: RowBasis::new(&eval.rows, n),
+            basis: Box::new(RowBasis::new(&eval.rows, n)),
             step: vec![0.0; n],
         }
     } else {
@@ -463,7 +466,7 @@ enum RowFit {
     /// Dense Φ_q: Gram–Schmidt for the rank, the SVD for the fit.
     Dense(DMatrix<f64>),
     /// The sparse factor: the fit by its leading block (module doc of [`RowBasis`]).
-    Sparse(RowBasis),
+    Sparse(Box<RowBasis>),
 }
 
 impl RowFit {
@@ -502,7 +505,7 @@ pub fn redundant_rows_checked_with(
         let mut basis = RowBasis::new(&eval.rows, q.len());
         basis.factor(&eval.rows, RANK_TOLERANCE);
         let redundant = basis.dependent_rows();
-        (RowFit::Sparse(basis), redundant)
+        (RowFit::Sparse(Box::new(basis)), redundant)
     } else {
         let jac = dense_jacobian(&eval, q.len());
         let redundant = redundant_rows(&jac);
