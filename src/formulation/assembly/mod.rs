@@ -1,26 +1,26 @@
 //! Kinematic assembly: consistent positions and velocities from the model's initial guesses.
 //!
-//! Positions: Newton's method on Φ(q, t₀) = 0 with minimum-norm steps Δq = −Φ_q⁺ Φ, so that
-//! each step moves the guess as little as possible and the branch reached is the one nearest
-//! the guess; a backtracking line search keeps |Φ| decreasing.
-//! Velocities: the minimum-norm correction of the guessed velocities onto Φ_q q̇ = −Φ_t, by
-//! one dense SVD (once per assembly: its least-squares answer on inconsistent rows decides
-//! which rows the velocities are fitted to, see [`assemble`]).
-//! Rank and redundant rows come from a Gram–Schmidt pass over the rows of Φ_q at the solution.
+//! Positions: Newton's method on Φ(q, t₀) = 0 with least-squares minimum-norm steps
+//! Δq = −Φ_q⁺ Φ, so that each step moves the guess as little as possible and the branch reached
+//! is the one nearest the guess; a backtracking line search keeps |Φ| decreasing.
+//! Velocities: the minimum-norm correction of the guessed velocities onto Φ_q q̇ = −Φ_t (its
+//! least-squares answer on inconsistent rows decides which rows the velocities are fitted to,
+//! see [`assemble`]). Rank and redundant rows: row k is redundant when it lies within 1e-9 of
+//! its length of the span of the independent rows before it.
 //!
-//! The minimum-norm solution of Φ_q x = r is x = Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ r where the rows are
-//! independent. Φ_q Φ_qᵀ is the Schur complement of [`super::schur`] with M = I: sparse, its
-//! structure worked out once per assembly, factored by Cholesky at each Newton iteration in
-//! O(m) for a chain. (Up to [`super::schur::DENSE_MAX_ROWS`] rows (one or two loops), the dense
-//! SVD below is used throughout: it costs microseconds there and keeps the small models'
-//! assembled states bit for bit.) Redundant rows make it singular, so it is factored with the diagonal
-//! raised by the relative shift [`LEAST_NORM_SHIFT`] (Levenberg–Marquardt's regularisation,
-//! ref. 1): for consistent redundant rows (r in the range of Φ_q) the solution tends to the
-//! pseudo-inverse one as the shift goes to 0, and the shift's own error, of relative size
-//! shift · |Φ_q|² / σ_min², is far below the Newton tolerance. Where even the shifted matrix
-//! does not factor, or where r is not in the range of Φ_q (a guess at a singular position, a
-//! linkage that cannot be assembled), that iteration takes the least-squares step of the dense
-//! SVD pseudo-inverse Φ_q⁺ r as before, so those cases end exactly as they did.
+//! Two paths compute these ([`RankSolver`]):
+//!
+//! * **dense**, up to [`DENSE_MAX_ROWS`] rows (one or two loops, every shipped model but the
+//!   chain): Gram–Schmidt over the dense rows of Φ_q for the rank, the dense SVD for the
+//!   velocities and the Newton steps. It costs microseconds there and keeps the small models'
+//!   assembled states and messages exactly as they were. (Forced above 16 rows, its Newton steps
+//!   take the sparse Schur complement Φ_q Φ_qᵀ of [`super::schur`] with the diagonal raised by
+//!   the relative shift [`LEAST_NORM_SHIFT`] (Levenberg–Marquardt, ref. 1), whose error is
+//!   shift · |Φ_q|² / σ_min² relative, and the SVD's step where r is not in the range of Φ_q.)
+//! * **sparse**, above: the row-order sparse Cholesky of Φ_q Φ_qᵀ of [`RowBasis`], which declares
+//!   the same rows redundant, gives the same least-squares steps Φ_q⁺ r as the SVD (to its
+//!   accuracy) and the fits of the redundant rows for the conflict check, in O(m) for a chain of
+//!   loops, without allocating inside the Newton loop after the first iteration.
 //!
 //! # References
 //! 1. J. Nocedal, S. J. Wright, *Numerical Optimization*, 2nd ed., Springer, 2006, §10.3
