@@ -51,9 +51,9 @@ use crate::mechanics::constraints::ConstraintRow;
 /// re-checked by the exact rule: a thousand times the rank tolerance, so that the pivot's
 /// round-off (a few 1e-8 in relative distance) can never decide a row near the rule.
 const BORDERLINE: f64 = 1e-6;
-/// Most projection passes of the exact re-check (two suffice unless the rows before are
-/// ill-conditioned, see the module doc).
-const MAX_PASSES: usize = 4;
+/// Projection passes of the exact re-check: two, as the dense Gram–Schmidt makes ("twice is
+/// enough", ref. 2), unless the first already leaves nothing to project.
+const MAX_PASSES: usize = 2;
 
 /// One pair of row blocks on the same body: G_ij gets their product.
 #[derive(Debug, Clone, Copy)]
