@@ -222,12 +222,14 @@ enum Steps {
 
 /// [`assemble`] with the rank and least-norm machinery chosen by `solver`.
 ///
-/// On the sparse path each Newton step is the minimum-norm step Δq = −Φ_q,Iᵀ (Φ_q,I Φ_q,Iᵀ)⁻¹ Φ_I
-/// on the independent rows I that [`RowBasis`] finds at that iterate (for consistent redundant
-/// rows the same step as the pseudo-inverse's; for rows that cannot all hold, the step that
-/// satisfies the independent ones to first order, and the line search decides), and the
-/// velocities are the guess corrected by the same formula with Φ_q q̇ + Φ_t on the right.
-/// Nothing allocates inside the Newton loop.
+/// On the sparse path each Newton step is the dense path's least-squares minimum-norm step
+/// Δq = −Φ_q⁺ Φ, computed from the factor of Φ_q,I Φ_q,Iᵀ over the independent rows I that
+/// [`RowBasis`] finds at that iterate and the fits of the dependent rows
+/// ([`RowBasis::least_squares_into`]): for consistent redundant rows it is
+/// −Φ_q,Iᵀ (Φ_q,I Φ_q,Iᵀ)⁻¹ Φ_I; for rows that cannot all hold (an iterate off the solution of an
+/// over-constrained linkage, a linkage that cannot be assembled) the misfit is shared out as the
+/// SVD shares it. The velocities are the guess corrected by the same solve with Φ_q q̇ + Φ_t
+/// on the right. Nothing allocates inside the Newton loop after its first iteration.
 pub fn assemble_with(
     model: &Model,
     set: &ConstraintSet,
