@@ -1,9 +1,15 @@
-//! Hundreds of bodies: one DAE right-hand-side evaluation on chains of parallel four-bars
-//! (`models/parallel_fourbar_chain.toml` with N = 5, 50, 200 loops: 11, 101 and 401 bodies,
-//! 32, 302 and 1202 constraint rows), with the Schur complement dense and skyline.
+//! Hundreds of bodies on chains of parallel four-bars (`models/parallel_fourbar_chain.toml` with
+//! N = 5, 50, 200 loops: 11, 101 and 401 bodies, 32, 302 and 1202 constraint rows):
+//!
+//! * `parallel_fourbar_chain_rhs`: one DAE right-hand-side evaluation, with the Schur complement
+//!   dense and skyline;
+//! * `parallel_fourbar_chain_build`: building the model, `Dae::new` (assembly of positions and
+//!   velocities, the redundancy check, the length scale, the Schur structure) from the loaded
+//!   `Model`.
 //!
 //! Run: `cargo bench --bench many_bodies`. The dense factorisation of the 401-body chain takes
-//! about a second per call on the 2-core machine, so the group keeps 20 samples and a 2 s target.
+//! about a second per call on the 2-core machine, so the groups keep few samples and a 2 s
+//! target.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use linkdyn::formulation::schur::SchurSolver;
@@ -11,12 +17,32 @@ use linkdyn::formulation::{Dae, DaeOptions, Formulation};
 use std::hint::black_box;
 use std::time::Duration;
 
+/// The chain of `loops` parallel four-bars, loaded.
+fn chain_model(loops: usize) -> linkdyn::model::Model {
+    let set = [format!("parameters.N={loops}")];
+    linkdyn::model::load("models/parallel_fourbar_chain.toml".as_ref(), &set)
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
 /// The chain of `loops` parallel four-bars, assembled.
 fn chain(loops: usize) -> Dae {
-    let set = [format!("parameters.N={loops}")];
-    let model = linkdyn::model::load("models/parallel_fourbar_chain.toml".as_ref(), &set)
-        .unwrap_or_else(|e| panic!("{e}"));
-    Dae::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+    Dae::new(&chain_model(loops), &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn build(c: &mut Criterion) {
+    let mut group = c.benchmark_group("parallel_fourbar_chain_build");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    for loops in [5, 50, 200] {
+        let model = chain_model(loops);
+        let bodies = model.bodies.len();
+        group.bench_with_input(BenchmarkId::new("dae_new", bodies), &bodies, |b, _| {
+            b.iter(|| Dae::new(black_box(&model), &DaeOptions::default()))
+        });
+    }
+    group.finish();
 }
 
 fn rhs(c: &mut Criterion) {
@@ -47,6 +73,6 @@ fn rhs(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = rhs
+    targets = build, rhs
 }
 criterion_main!(benches);

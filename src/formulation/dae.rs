@@ -626,12 +626,9 @@ fn length_scale(model: &Model, q: &[f64]) -> f64 {
             points.push(point_state(end.frame, end.local, q, &zero, &sin_cos).position);
         }
     }
-    let mut diameter = 0.0_f64;
-    for (k, a) in points.iter().enumerate() {
-        for b in &points[k + 1..] {
-            diameter = diameter.max((a[0] - b[0]).hypot(a[1] - b[1]));
-        }
-    }
+    // The largest pairwise distance, from the convex hull in O(p log p) (O(p²) over all pairs
+    // took 5 ms at 401 bodies), the same value to the last bit.
+    let diameter = super::assembly::diameter::diameter(&points);
     // A NaN distance (never from an assembled model) falls back to the floor.
     diameter.max(MIN_LENGTH_SCALE)
 }

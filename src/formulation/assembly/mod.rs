@@ -1,33 +1,40 @@
 //! Kinematic assembly: consistent positions and velocities from the model's initial guesses.
 //!
-//! Positions: Newton's method on Φ(q, t₀) = 0 with minimum-norm steps Δq = −Φ_q⁺ Φ, so that
-//! each step moves the guess as little as possible and the branch reached is the one nearest
-//! the guess; a backtracking line search keeps |Φ| decreasing.
-//! Velocities: the minimum-norm correction of the guessed velocities onto Φ_q q̇ = −Φ_t, by
-//! one dense SVD (once per assembly: its least-squares answer on inconsistent rows decides
-//! which rows the velocities are fitted to, see [`assemble`]).
-//! Rank and redundant rows come from a Gram–Schmidt pass over the rows of Φ_q at the solution.
+//! Positions: Newton's method on Φ(q, t₀) = 0 with least-squares minimum-norm steps
+//! Δq = −Φ_q⁺ Φ, so that each step moves the guess as little as possible and the branch reached
+//! is the one nearest the guess; a backtracking line search keeps |Φ| decreasing.
+//! Velocities: the minimum-norm correction of the guessed velocities onto Φ_q q̇ = −Φ_t (its
+//! least-squares answer on inconsistent rows decides which rows the velocities are fitted to,
+//! see [`assemble`]). Rank and redundant rows: row k is redundant when it lies within 1e-9 of
+//! its length of the span of the independent rows before it.
 //!
-//! The minimum-norm solution of Φ_q x = r is x = Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ r where the rows are
-//! independent. Φ_q Φ_qᵀ is the Schur complement of [`super::schur`] with M = I: sparse, its
-//! structure worked out once per assembly, factored by Cholesky at each Newton iteration in
-//! O(m) for a chain. (Up to [`super::schur::DENSE_MAX_ROWS`] rows (one or two loops), the dense
-//! SVD below is used throughout: it costs microseconds there and keeps the small models'
-//! assembled states bit for bit.) Redundant rows make it singular, so it is factored with the diagonal
-//! raised by the relative shift [`LEAST_NORM_SHIFT`] (Levenberg–Marquardt's regularisation,
-//! ref. 1): for consistent redundant rows (r in the range of Φ_q) the solution tends to the
-//! pseudo-inverse one as the shift goes to 0, and the shift's own error, of relative size
-//! shift · |Φ_q|² / σ_min², is far below the Newton tolerance. Where even the shifted matrix
-//! does not factor, or where r is not in the range of Φ_q (a guess at a singular position, a
-//! linkage that cannot be assembled), that iteration takes the least-squares step of the dense
-//! SVD pseudo-inverse Φ_q⁺ r as before, so those cases end exactly as they did.
+//! Two paths compute these ([`RankSolver`]):
+//!
+//! * **dense**, up to [`DENSE_MAX_ROWS`] rows (one or two loops, every shipped model but the
+//!   chain): Gram–Schmidt over the dense rows of Φ_q for the rank, the dense SVD for the
+//!   velocities and the Newton steps. It costs microseconds there and keeps the small models'
+//!   assembled states and messages exactly as they were. (Forced above 16 rows, its Newton steps
+//!   take the sparse Schur complement Φ_q Φ_qᵀ of [`super::schur`] with the diagonal raised by
+//!   the relative shift [`LEAST_NORM_SHIFT`] (Levenberg–Marquardt, ref. 1), whose error is
+//!   shift · |Φ_q|² / σ_min² relative, and the SVD's step where r is not in the range of Φ_q.)
+//! * **sparse**, above: the row-order sparse Cholesky of Φ_q Φ_qᵀ of [`RowBasis`], which declares
+//!   the same rows redundant, gives the same least-squares steps Φ_q⁺ r as the SVD (to its
+//!   accuracy) and the fits of the redundant rows for the conflict check, in O(m) for a chain of
+//!   loops, without allocating inside the Newton loop after the first iteration.
 //!
 //! # References
 //! 1. J. Nocedal, S. J. Wright, *Numerical Optimization*, 2nd ed., Springer, 2006, §10.3
 //!    (Levenberg–Marquardt as regularised least norm).
 
+pub(crate) mod diameter;
+pub mod row_basis;
+#[cfg(test)]
+mod tests;
+
+pub use row_basis::RowBasis;
+
 use super::FormulationError;
-use super::schur::{Schur, SchurSolver};
+use super::schur::{DENSE_MAX_ROWS, Schur, SchurSolver};
 use crate::mechanics::constraints::{ConstraintEval, ConstraintRow, ConstraintSet, RowSource};
 use crate::model::Model;
 use nalgebra::{DMatrix, DVector};
@@ -58,6 +65,32 @@ pub struct Assembly {
     pub iterations: usize,
     /// Largest |Φ| after assembly.
     pub residual: f64,
+}
+
+/// How assembly finds the rank of Φ_q and takes its least-norm steps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RankSolver {
+    /// Dense up to [`DENSE_MAX_ROWS`] rows (every one- and two-loop model), sparse above (the
+    /// default).
+    #[default]
+    Auto,
+    /// Gram–Schmidt over the dense rows of Φ_q for the rank, the dense SVD for velocities and
+    /// for the Newton steps that the shifted normal equations cannot take: cubic in the rows.
+    Dense,
+    /// The sparse row-order Cholesky of Φ_q Φ_qᵀ of [`RowBasis`] for all three: linear in the
+    /// rows for a chain of loops.
+    Sparse,
+}
+
+impl RankSolver {
+    /// Whether `m` rows take the sparse path.
+    fn is_sparse(self, m: usize) -> bool {
+        match self {
+            RankSolver::Auto => m > DENSE_MAX_ROWS,
+            RankSolver::Dense => false,
+            RankSolver::Sparse => true,
+        }
+    }
 }
 
 fn dense_jacobian(eval: &ConstraintEval, n: usize) -> DMatrix<f64> {
@@ -145,18 +178,78 @@ fn max_abs(v: &[f64]) -> f64 {
 }
 
 fn evaluate(set: &ConstraintSet, t: f64, q: &[f64], v: &[f64], out: &mut ConstraintEval) {
-    let sin_cos: Vec<(f64, f64)> = (0..q.len() / 3).map(|i| q[3 * i + 2].sin_cos()).collect();
-    set.evaluate_into(t, q, v, &sin_cos, out);
+    let mut sin_cos = vec![(0.0, 1.0); q.len() / 3];
+    evaluate_with(set, t, q, v, &mut sin_cos, out);
+}
+
+/// [`evaluate`] with the caller's buffer for (sin φ, cos φ) of each body: no allocation.
+fn evaluate_with(
+    set: &ConstraintSet,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    sin_cos: &mut [(f64, f64)],
+    out: &mut ConstraintEval,
+) {
+    for (sc, body) in sin_cos.iter_mut().zip(q.chunks_exact(3)) {
+        *sc = body[2].sin_cos();
+    }
+    set.evaluate_into(t, q, v, sin_cos, out);
 }
 
 /// Assembles `model` at time `t0`: positions with the constraint rows of `set` (the ideal-joint
 /// rows, clearance joints held at their initial eccentricity), velocities with the same rows
-/// where they are consistent, otherwise with the rows of the dynamics, `dynamic`.
+/// where they are consistent, otherwise with the rows of the dynamics, `dynamic`
+/// ([`RankSolver::Auto`]).
 pub fn assemble(
     model: &Model,
     set: &ConstraintSet,
     dynamic: &ConstraintSet,
     t0: f64,
+) -> Result<Assembly, FormulationError> {
+    assemble_with(model, set, dynamic, t0, RankSolver::Auto)
+}
+
+/// The least-norm machinery of one assembly: the dense one of the module doc, or the sparse
+/// [`RowBasis`] with its step buffer.
+enum Steps {
+    Dense(Schur),
+    Sparse {
+        basis: Box<RowBasis>,
+        step: Vec<f64>,
+    },
+}
+
+/// [`assemble`] with the rank and least-norm machinery chosen by `solver`.
+///
+/// On the sparse path each Newton step is the dense path's least-squares minimum-norm step
+/// Δq = −Φ_q⁺ Φ, computed from the factor of Φ_q,I Φ_q,Iᵀ over the independent rows I that
+/// [`RowBasis`] finds at that iterate and the fits of the dependent rows
+/// ([`RowBasis::least_squares_into`]): for consistent redundant rows it is
+/// −Φ_q,Iᵀ (Φ_q,I Φ_q,Iᵀ)⁻¹ Φ_I; for rows that cannot all hold (an iterate off the solution of an
+/// over-constrained linkage, a linkage that cannot be assembled) the misfit is shared out as the
+/// SVD shares it. The velocities are the guess corrected by the same solve with Φ_q q̇ + Φ_t
+/// on the right. Nothing allocates inside the Newton loop after its first iteration.
+pub fn assemble_with(
+    model: &Model,
+    set: &ConstraintSet,
+    dynamic: &ConstraintSet,
+    t0: f64,
+    solver: RankSolver,
+) -> Result<Assembly, FormulationError> {
+    assemble_steps(model, set, dynamic, t0, solver, SchurSolver::Auto)
+}
+
+/// [`assemble_with`], the dense path's shifted normal equations stored as `normal` says
+/// (`SchurSolver::Dense`: never used, every dense step is the SVD's pseudo-inverse, the
+/// reference the tests compare the sparse steps with).
+fn assemble_steps(
+    model: &Model,
+    set: &ConstraintSet,
+    dynamic: &ConstraintSet,
+    t0: f64,
+    solver: RankSolver,
+    normal: SchurSolver,
 ) -> Result<Assembly, FormulationError> {
     let n = 3 * model.bodies.len();
     let m = set.n_rows();
@@ -171,32 +264,51 @@ pub fn assemble(
         .flat_map(|b| [b.initial.vx, b.initial.vy, b.initial.omega])
         .collect();
     let mut eval = ConstraintEval::with_rows(m);
+    let mut trial_eval = ConstraintEval::with_rows(m);
+    let mut sin_cos = vec![(0.0, 1.0); model.bodies.len()];
+    let mut trial = vec![0.0; n];
     let zero = vec![0.0; n];
-    evaluate(set, t0, &q, &zero, &mut eval);
+    evaluate_with(set, t0, &q, &zero, &mut sin_cos, &mut eval);
     let mut residual = max_abs(&eval.phi);
     let mut iterations = 0;
-    let all: Vec<usize> = (0..m).collect();
-    let mut normal = Schur::new(&eval.rows, &all, SchurSolver::Auto);
+    let mut steps = if solver.is_sparse(m) {
+        Steps::Sparse {
+            basis: Box::new(RowBasis::new(&eval.rows, n)),
+            step: vec![0.0; n],
+        }
+    } else {
+        let all: Vec<usize> = (0..m).collect();
+        Steps::Dense(Schur::new(&eval.rows, &all, normal))
+    };
     while residual > POSITION_TOLERANCE && iterations < MAX_ITERATIONS {
         iterations += 1;
-        let Some(step) = least_norm(&mut normal, &eval, &eval.phi, n) else {
-            break;
+        let dense_step;
+        let step: &[f64] = match &mut steps {
+            Steps::Dense(normal) => {
+                let Some(s) = least_norm(normal, &eval, &eval.phi, n) else {
+                    break;
+                };
+                dense_step = s;
+                &dense_step
+            }
+            Steps::Sparse { basis, step } => {
+                basis.factor(&eval.rows, RANK_TOLERANCE);
+                basis.least_squares_into(&eval.rows, &eval.phi, step);
+                step
+            }
         };
         // Backtracking: accept the first step length that reduces |Φ|.
         let mut length = 1.0;
         let mut accepted = false;
         while length > 1e-6 {
-            let trial: Vec<f64> = q
-                .iter()
-                .zip(step.iter())
-                .map(|(qi, si)| qi - length * si)
-                .collect();
-            let mut trial_eval = ConstraintEval::with_rows(m);
-            evaluate(set, t0, &trial, &zero, &mut trial_eval);
+            for ((ti, qi), si) in trial.iter_mut().zip(&q).zip(step) {
+                *ti = qi - length * si;
+            }
+            evaluate_with(set, t0, &trial, &zero, &mut sin_cos, &mut trial_eval);
             let r = max_abs(&trial_eval.phi);
             if r < residual || r <= POSITION_TOLERANCE {
-                q = trial;
-                eval = trial_eval;
+                std::mem::swap(&mut q, &mut trial);
+                std::mem::swap(&mut eval, &mut trial_eval);
                 residual = r;
                 accepted = true;
                 break;
@@ -222,22 +334,43 @@ pub fn assemble(
         });
     }
 
-    let jac = dense_jacobian(&eval, n);
-    let redundant_rows = redundant_rows(&jac);
-    let rank = m - redundant_rows.len();
-
     // Velocities: the ideal-joint velocity analysis on the same rows; where that is inconsistent
     // (a clearance joint held as a revolute joint while a driver moves its journal relative to
     // its bearing), only the rows of the dynamics, `dynamic`.
-    let v_guess_vec = DVector::from_column_slice(&v_guess);
-    let (v, defect) = project_velocities(&jac, &eval.phi_t, &v_guess_vec);
-    let v = if defect <= VELOCITY_TOLERANCE * (1.0 + max_abs(&eval.phi_t)) {
-        v
-    } else {
-        let mut dyn_eval = ConstraintEval::with_rows(dynamic.n_rows());
-        evaluate(dynamic, t0, &q, &zero, &mut dyn_eval);
-        project_velocities(&dense_jacobian(&dyn_eval, n), &dyn_eval.phi_t, &v_guess_vec).0
+    let consistent =
+        |defect: f64, phi_t: &[f64]| defect <= VELOCITY_TOLERANCE * (1.0 + max_abs(phi_t));
+    let (redundant_rows, v) = match &mut steps {
+        Steps::Dense(_) => {
+            let jac = dense_jacobian(&eval, n);
+            let redundant_rows = redundant_rows(&jac);
+            let v_guess_vec = DVector::from_column_slice(&v_guess);
+            let (v, defect) = project_velocities(&jac, &eval.phi_t, &v_guess_vec);
+            let v = if consistent(defect, &eval.phi_t) {
+                v
+            } else {
+                let mut dyn_eval = ConstraintEval::with_rows(dynamic.n_rows());
+                evaluate(dynamic, t0, &q, &zero, &mut dyn_eval);
+                project_velocities(&dense_jacobian(&dyn_eval, n), &dyn_eval.phi_t, &v_guess_vec).0
+            };
+            (redundant_rows, v)
+        }
+        Steps::Sparse { basis, .. } => {
+            basis.factor(&eval.rows, RANK_TOLERANCE);
+            let redundant_rows = basis.dependent_rows();
+            let (v, defect) = project_velocities_sparse(basis, &eval, &v_guess);
+            let v = if consistent(defect, &eval.phi_t) {
+                v
+            } else {
+                let mut dyn_eval = ConstraintEval::with_rows(dynamic.n_rows());
+                evaluate(dynamic, t0, &q, &zero, &mut dyn_eval);
+                let mut dyn_basis = RowBasis::new(&dyn_eval.rows, n);
+                dyn_basis.factor(&dyn_eval.rows, RANK_TOLERANCE);
+                project_velocities_sparse(&mut dyn_basis, &dyn_eval, &v_guess).0
+            };
+            (redundant_rows, v)
+        }
     };
+    let rank = m - redundant_rows.len();
 
     Ok(Assembly {
         q,
@@ -248,6 +381,32 @@ pub fn assemble(
         iterations,
         residual,
     })
+}
+
+/// The sparse twin of [`project_velocities`] with `basis` factored at the rows of `eval`:
+/// q̇ = guess − Φ_q,Iᵀ G_II⁻¹ (Φ_q guess + Φ_t)_I, and the largest |Φ_q q̇ + Φ_t| over all rows.
+fn project_velocities_sparse(
+    basis: &mut RowBasis,
+    eval: &ConstraintEval,
+    guess: &[f64],
+) -> (Vec<f64>, f64) {
+    let defect: Vec<f64> = eval
+        .rows
+        .iter()
+        .zip(&eval.phi_t)
+        .map(|(row, pt)| row.dot_velocity(guess) + pt)
+        .collect();
+    let mut correction = vec![0.0; guess.len()];
+    basis.least_squares_into(&eval.rows, &defect, &mut correction);
+    let v: Vec<f64> = guess.iter().zip(&correction).map(|(g, c)| g - c).collect();
+    let residual = eval
+        .rows
+        .iter()
+        .zip(&eval.phi_t)
+        .fold(0.0_f64, |w, (row, pt)| {
+            w.max((row.dot_velocity(&v) + pt).abs())
+        });
+    (v, residual)
 }
 
 /// The minimum-norm correction of `guess` onto Φ_q q̇ = −Φ_t, and the largest residual
@@ -301,10 +460,59 @@ pub fn redundant_rows_checked(
     v: &[f64],
     t0: f64,
 ) -> Result<Vec<usize>, FormulationError> {
+    redundant_rows_checked_with(model, set, q, v, t0, RankSolver::Auto)
+}
+
+/// The rows of Φ_q and what fits a dependent row by the independent rows before it.
+enum RowFit {
+    /// Dense Φ_q: Gram–Schmidt for the rank, the SVD for the fit.
+    Dense(DMatrix<f64>),
+    /// The sparse factor: the fit by its leading block (module doc of [`RowBasis`]).
+    Sparse(Box<RowBasis>),
+}
+
+impl RowFit {
+    /// (row, coefficient) over the independent rows before k of the least-squares fit of
+    /// Φ_q,k; `redundant` lists the dependent rows.
+    fn fit(&mut self, rows: &[ConstraintRow], k: usize, redundant: &[usize]) -> Vec<(usize, f64)> {
+        let independent: Vec<usize> = (0..k)
+            .filter(|i| redundant.binary_search(i).is_err())
+            .collect();
+        match self {
+            RowFit::Dense(jac) => {
+                let c = combination(jac, k, &independent);
+                independent.into_iter().zip(c).collect()
+            }
+            RowFit::Sparse(basis) => {
+                let mut c = vec![0.0; k];
+                basis.combination_into(rows, k, &mut c);
+                independent.into_iter().map(|i| (i, c[i])).collect()
+            }
+        }
+    }
+}
+
+/// [`redundant_rows_checked`] with the rank and fitting machinery chosen by `solver`.
+pub fn redundant_rows_checked_with(
+    model: &Model,
+    set: &ConstraintSet,
+    q: &[f64],
+    v: &[f64],
+    t0: f64,
+    solver: RankSolver,
+) -> Result<Vec<usize>, FormulationError> {
     let mut eval = ConstraintEval::with_rows(set.n_rows());
     evaluate(set, t0, q, v, &mut eval);
-    let jac = dense_jacobian(&eval, q.len());
-    let redundant = redundant_rows(&jac);
+    let (mut fit, redundant) = if solver.is_sparse(set.n_rows()) {
+        let mut basis = RowBasis::new(&eval.rows, q.len());
+        basis.factor(&eval.rows, RANK_TOLERANCE);
+        let redundant = basis.dependent_rows();
+        (RowFit::Sparse(Box::new(basis)), redundant)
+    } else {
+        let jac = dense_jacobian(&eval, q.len());
+        let redundant = redundant_rows(&jac);
+        (RowFit::Dense(jac), redundant)
+    };
     let rhs_scale = |x: &[f64]| 1.0 + max_abs(x);
     let (scale_t, scale_gamma) = (rhs_scale(&eval.phi_t), rhs_scale(&eval.gamma));
     // Drivers first: a dependent driver is the root of any other inconsistency (a pin that
@@ -315,14 +523,11 @@ pub fn redundant_rows_checked(
         .filter(|&&k| is_driver(k))
         .chain(redundant.iter().filter(|&&k| !is_driver(k)));
     for &k in ordered {
-        let independent: Vec<usize> = (0..k).filter(|i| !redundant.contains(i)).collect();
-        let coefficients = combination(&jac, k, &independent);
-        let largest = coefficients.iter().fold(0.0_f64, |m, c| m.max(c.abs()));
-        let terms: Vec<(usize, f64)> = independent
-            .iter()
-            .zip(&coefficients)
+        let coefficients = fit.fit(&eval.rows, k, &redundant);
+        let largest = coefficients.iter().fold(0.0_f64, |m, c| m.max(c.1.abs()));
+        let terms: Vec<(usize, f64)> = coefficients
+            .into_iter()
             .filter(|(_, c)| c.abs() > COEFFICIENT_TOLERANCE * largest)
-            .map(|(&i, &c)| (i, c))
             .collect();
         let combined = |x: &[f64]| terms.iter().map(|&(i, c)| c * x[i]).sum::<f64>();
         let velocity_defect = (eval.phi_t[k] - combined(&eval.phi_t)).abs();
