@@ -76,6 +76,10 @@ struct Work {
     /// S = Φ_q M⁻¹ Φ_qᵀ over the active rows: structure fixed at construction, values per call.
     schur: Schur,
     lambda: Vec<f64>,
+    /// λ₁ = (S + μD)⁻¹ b, the first iterate of the multiplier solve (see [`Dae::shift`]).
+    lambda_first: Vec<f64>,
+    /// c = γ − 2αΦ̇ − β²Φ of the active rows.
+    bias: Vec<f64>,
     /// Rates of the energy states: driver power, external power, dissipation (W).
     energy_rates: [f64; 3],
     /// The last evaluation's (t, y) and q̈, for the grazing guard (only kept with clearance joints).
@@ -97,6 +101,8 @@ pub struct Dae {
     /// Clearance joints (contact-force laws, no constraint rows).
     contacts: ContactSites,
     inv_mass: Vec<f64>,
+    /// The Tikhonov shift μ D of the multiplier solve, per active row.
+    shift: Vec<f64>,
     baumgarte: Baumgarte,
     /// Energy bookkeeping states are integrated.
     energy: bool,
@@ -139,7 +145,7 @@ impl Dae {
             0.0,
         )?;
         let active: Vec<usize> = (0..m).filter(|k| !redundant.contains(k)).collect();
-        let inv_mass = model
+        let inv_mass: Vec<f64> = model
             .bodies
             .iter()
             .flat_map(|b| [1.0 / b.mass, 1.0 / b.mass, 1.0 / b.inertia])
@@ -147,6 +153,7 @@ impl Dae {
         let nb = model.bodies.len();
         let ma = active.len();
         let schur = schur_at(&constraints, &active, &assembly, SchurSolver::Auto);
+        let shift = shift_at(&constraints, &active, &assembly, &inv_mass);
         let mut dae = Dae {
             model: model.clone(),
             active,
@@ -154,6 +161,7 @@ impl Dae {
             applied: AppliedForces::from_model(model),
             contacts: ContactSites::from_model(model),
             inv_mass,
+            shift,
             baumgarte: options.baumgarte.unwrap_or(model.settings.baumgarte),
             energy: options.energy,
             initial_energy: 0.0,
@@ -166,6 +174,8 @@ impl Dae {
                 constraints: ConstraintEval::with_rows(m),
                 schur,
                 lambda: vec![0.0; ma],
+                lambda_first: vec![0.0; ma],
+                bias: vec![0.0; ma],
                 energy_rates: [0.0; 3],
                 last_t: f64::NAN,
                 last_y: Vec::new(),
@@ -287,46 +297,39 @@ impl Dae {
 
         let ce = &work.constraints;
         let Baumgarte { alpha, beta } = self.baumgarte;
-        // S = Φ_q M⁻¹ Φ_qᵀ over its structural non-zeros, factored in place.
-        if let Err(k) = work
-            .schur
-            .factor(&ce.rows, &self.active, &self.inv_mass, 0.0)
+        // A = S + μD, S = Φ_q M⁻¹ Φ_qᵀ over its structural non-zeros, factored in place.
+        if let Err(k) =
+            work.schur
+                .factor_shifted(&ce.rows, &self.active, &self.inv_mass, &self.shift)
         {
             return Err(FormulationError::SingularConstraints {
                 t,
                 constraint: self.constraints.row_name(&self.model, self.active[k]),
             });
         }
-        // The right-hand side Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), with W = M⁻¹ Φ_qᵀ by row blocks.
+        // c = γ − 2αΦ̇ − β²Φ and the right-hand side b = Φ_q M⁻¹ Q − c, with W = M⁻¹ Φ_qᵀ by
+        // row blocks.
         for (i, &ri) in self.active.iter().enumerate() {
-            let row = &ce.rows[ri];
-            let mut rhs = -(ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri]);
-            let w = &work.schur.weighted()[i];
-            for (side, body) in [row.body_a, row.body_b].into_iter().enumerate() {
-                if let Some(b) = body {
-                    for c in 0..3 {
-                        rhs += w[side][c] * work.forces[3 * b + c];
-                    }
-                }
-            }
-            work.lambda[i] = rhs;
+            let c = ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri];
+            work.bias[i] = c;
+            work.lambda_first[i] =
+                weighted_dot(&ce.rows[ri], &work.schur.weighted()[i], &work.forces) - c;
+        }
+        // λ₁ = A⁻¹ b.
+        work.schur.solve(&mut work.lambda_first);
+        // Q − Φ_qᵀ λ₁ into acc.
+        acc.copy_from_slice(&work.forces);
+        subtract_constraint_forces(&ce.rows, &self.active, &work.lambda_first, acc);
+        // One step of iterated Tikhonov: δ = A⁻¹ (b − S λ₁) with b − S λ₁ = Φ_q M⁻¹ (Q − Φ_qᵀ λ₁) − c.
+        for (i, &ri) in self.active.iter().enumerate() {
+            work.lambda[i] =
+                weighted_dot(&ce.rows[ri], &work.schur.weighted()[i], acc) - work.bias[i];
         }
         work.schur.solve(&mut work.lambda);
-        // q̈ = M⁻¹ (Q − Φ_qᵀ λ).
-        acc.copy_from_slice(&work.forces);
-        for (i, &ri) in self.active.iter().enumerate() {
-            let row = &ce.rows[ri];
-            let l = work.lambda[i];
-            if let Some(a) = row.body_a {
-                for c in 0..3 {
-                    acc[3 * a + c] -= row.jac_a[c] * l;
-                }
-            }
-            if let Some(b) = row.body_b {
-                for c in 0..3 {
-                    acc[3 * b + c] -= row.jac_b[c] * l;
-                }
-            }
+        // q̈ = M⁻¹ (Q − Φ_qᵀ λ₁ − Φ_qᵀ δ), λ = λ₁ + δ.
+        subtract_constraint_forces(&ce.rows, &self.active, &work.lambda, acc);
+        for (l, l1) in work.lambda.iter_mut().zip(&work.lambda_first) {
+            *l += l1;
         }
         for (a, im) in acc.iter_mut().zip(&self.inv_mass) {
             *a *= im;
@@ -574,6 +577,65 @@ fn schur_at(
     let sin_cos = sin_cos_of(&assembly.q);
     set.evaluate_into(0.0, &assembly.q, &assembly.v, &sin_cos, &mut eval);
     Schur::new(&eval.rows, active, solver)
+}
+
+/// The shift μ D of the multiplier solve: μ = [`TIKHONOV`] times the diagonal D of S at the
+/// assembled state.
+fn shift_at(
+    set: &ConstraintSet,
+    active: &[usize],
+    assembly: &Assembly,
+    inv_mass: &[f64],
+) -> Vec<f64> {
+    let mut eval = ConstraintEval::with_rows(set.n_rows());
+    let sin_cos = sin_cos_of(&assembly.q);
+    set.evaluate_into(0.0, &assembly.q, &assembly.v, &sin_cos, &mut eval);
+    super::schur::diagonal(&eval.rows, active, inv_mass)
+        .into_iter()
+        .map(|d| TIKHONOV * d)
+        .collect()
+}
+
+/// Relative Tikhonov shift μ of the multiplier solve.
+pub const TIKHONOV: f64 = 1e-10;
+
+/// Φ_q,i M⁻¹ f for the row `row` whose weighted blocks M⁻¹ Φ_q,iᵀ are `w`, f over all coordinates.
+fn weighted_dot(
+    row: &crate::mechanics::constraints::ConstraintRow,
+    w: &[[f64; 3]; 2],
+    f: &[f64],
+) -> f64 {
+    let mut sum = 0.0;
+    for (side, body) in [row.body_a, row.body_b].into_iter().enumerate() {
+        if let Some(b) = body {
+            for c in 0..3 {
+                sum += w[side][c] * f[3 * b + c];
+            }
+        }
+    }
+    sum
+}
+
+/// f −= Φ_qᵀ x over the active rows.
+fn subtract_constraint_forces(
+    rows: &[crate::mechanics::constraints::ConstraintRow],
+    active: &[usize],
+    x: &[f64],
+    f: &mut [f64],
+) {
+    for (&ri, &l) in active.iter().zip(x) {
+        let row = &rows[ri];
+        if let Some(a) = row.body_a {
+            for c in 0..3 {
+                f[3 * a + c] -= row.jac_a[c] * l;
+            }
+        }
+        if let Some(b) = row.body_b {
+            for c in 0..3 {
+                f[3 * b + c] -= row.jac_b[c] * l;
+            }
+        }
+    }
 }
 
 /// Smallest length scale (m) used for the violation bound, for a linkage whose points all

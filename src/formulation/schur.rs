@@ -98,6 +98,26 @@ pub struct Schur {
     diagonal: Vec<usize>,
 }
 
+/// The diagonal of S = Φ_q M⁻¹ Φ_qᵀ for the rows `rows[active[k]]`: S_kk = Φ_q,k M⁻¹ Φ_q,kᵀ,
+/// the inverse mass that row k sees along its own direction (1/kg for a position row,
+/// 1/(kg·m²) for an angle row).
+pub fn diagonal(rows: &[ConstraintRow], active: &[usize], inv_mass: &[f64]) -> Vec<f64> {
+    active
+        .iter()
+        .map(|&r| {
+            blocks(&rows[r])
+                .into_iter()
+                .filter_map(|(body, jac)| body.map(|b| (b, jac)))
+                .map(|(b, jac)| {
+                    (0..3)
+                        .map(|c| jac[c] * jac[c] * inv_mass[3 * b + c])
+                        .sum::<f64>()
+                })
+                .sum()
+        })
+        .collect()
+}
+
 /// The two (body, block) pairs of a row.
 fn blocks(row: &ConstraintRow) -> [(Option<usize>, &[f64; 3]); 2] {
     [(row.body_a, &row.jac_a), (row.body_b, &row.jac_b)]
@@ -261,6 +281,49 @@ impl Schur {
         inv_mass: &[f64],
         shift: f64,
     ) -> Result<(), usize> {
+        self.form(rows, active, inv_mass);
+        if shift > 0.0 {
+            let values = match &mut self.storage {
+                Storage::Dense { a } => a,
+                Storage::Skyline { values, .. } => values,
+            };
+            for &d in &self.diagonal {
+                values[d] += if values[d] == 0.0 {
+                    shift
+                } else {
+                    shift * values[d]
+                };
+            }
+        }
+        self.factor_formed()
+    }
+
+    /// Forms S as [`Schur::factor`] does, adds `shift[k]` to its diagonal entry k (caller's
+    /// numbering; a fixed Tikhonov shift μ D, see `dae.rs`) and factors S + diag(shift).
+    /// `Err(k)` as for [`Schur::factor`]: with every shift positive, only where the shift is
+    /// below the round-off of the pivot or an entry is not finite.
+    pub fn factor_shifted(
+        &mut self,
+        rows: &[ConstraintRow],
+        active: &[usize],
+        inv_mass: &[f64],
+        shift: &[f64],
+    ) -> Result<(), usize> {
+        debug_assert_eq!(shift.len(), self.m, "one shift per row");
+        self.form(rows, active, inv_mass);
+        let values = match &mut self.storage {
+            Storage::Dense { a } => a,
+            Storage::Skyline { values, .. } => values,
+        };
+        for (&d, s) in self.diagonal.iter().zip(shift) {
+            values[d] += s;
+        }
+        self.factor_formed()
+    }
+
+    /// Computes the weighted blocks M⁻¹ Φ_q,iᵀ and sums S over its structural non-zeros into
+    /// the storage (not factored).
+    fn form(&mut self, rows: &[ConstraintRow], active: &[usize], inv_mass: &[f64]) {
         debug_assert_eq!(active.len(), self.m, "the rows given at construction");
         for (w, &r) in self.weighted.iter_mut().zip(active) {
             for (side, (body, jac)) in blocks(&rows[r]).into_iter().enumerate() {
@@ -289,15 +352,10 @@ impl Schur {
             };
             values[p.pos] += w[0] * jac[0] + w[1] * jac[1] + w[2] * jac[2];
         }
-        if shift > 0.0 {
-            for &d in &self.diagonal {
-                values[d] += if values[d] == 0.0 {
-                    shift
-                } else {
-                    shift * values[d]
-                };
-            }
-        }
+    }
+
+    /// Factors the formed (and shifted) storage in place.
+    fn factor_formed(&mut self) -> Result<(), usize> {
         match &mut self.storage {
             Storage::Dense { a } => cholesky::factor(a, self.m),
             Storage::Skyline {
