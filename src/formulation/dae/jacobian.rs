@@ -18,8 +18,18 @@
 //!
 //! with H_k = ∂²Φ_k/∂q² ([`RowCurvature`]), ∂c/∂q = ∂γ/∂q − 2α H v − β² Φ_q and
 //! ∂c/∂q̇ = ∂γ/∂q̇ − 2α Φ_q (Φ_t depends on t only). So each column costs one solve with the
-//! Schur complement S = Φ_q M⁻¹ Φ_qᵀ that the right-hand side factors too:
-//! ∂λ = S⁻¹ (Φ_q M⁻¹ r_j − s_j), ∂q̈ = M⁻¹ (r_j − Φ_qᵀ ∂λ).
+//! matrix A = S + diag(Δ) that the right-hand side factors too (S = Φ_q M⁻¹ Φ_qᵀ with its
+//! regularised pivots, module documentation of [`super`]):
+//! ∂λ = A⁻¹ (Φ_q M⁻¹ r_j − s_j), ∂q̈ = M⁻¹ (r_j − Φ_qᵀ ∂λ).
+//!
+//! This is the exact derivative of λ = A⁻¹ b with the shifts Δ_p held fixed. They also move
+//! with q, through the pivots d_p they regularise, at the rate ∂Δ_p/∂d_p = −μ_p²/(d_p + μ_p)²:
+//! below 1e-12 wherever every pivot exceeds 1e-4 of its row's diagonal (μ_p = 1e-10 of it),
+//! that is everywhere but within about 1e-4 (relative) of a singular position. There the
+//! term is left out: Radau5's Newton iteration, the Jacobian's only user, converges with it
+//! (`tests/singular_parallelogram.rs` passes the flat positions with Radau5 at rtol down to
+//! 1e-10), and computing it would need one extra solve with the leading block of the factor
+//! per pivot.
 //!
 //! ∂Q/∂y: gravity and constant loads contribute nothing; the contact forces of each clearance
 //! joint in contact exactly in their kinematics and by central differences of the scalar laws
@@ -91,32 +101,13 @@ impl Dae {
             .curvature_into(q, v, &sin_cos, &mut curvature);
         let ma = self.active.len();
         let Baumgarte { alpha, beta } = self.baumgarte;
-        // The two multiplier iterates of the right-hand side (module documentation of
-        // [`super`]): λ₁ = A⁻¹ b and λ = λ₁ + A⁻¹ (b − S λ₁), A = S + μD, and the accelerations
-        // that go with each, q̈(x) = M⁻¹ (Q − Φ_qᵀ x).
-        let lambda_first: Vec<f64> = self.work.borrow().lambda_first.clone();
         let acc = &eval.acceleration;
-        let mut acc_first = acc.clone();
-        for (i, &k) in self.active.iter().enumerate() {
-            let row = &ce.rows[k];
-            let d = eval.lambda[k] - lambda_first[i];
-            for (body, jac) in [(row.body_a, &row.jac_a), (row.body_b, &row.jac_b)] {
-                if let Some(b) = body {
-                    for c in 0..3 {
-                        acc_first[3 * b + c] += self.inv_mass[3 * b + c] * jac[c] * d;
-                    }
-                }
-            }
-        }
-        // Per active row i, dense over the n coordinates: Φ_q, ∂c/∂q − H q̈(x) for x = λ and
-        // x = λ₁, ∂c/∂q̇.
+        // Per active row i, dense over the n coordinates: Φ_q, H q̈, ∂c/∂q, ∂c/∂q̇.
         let mut jac = vec![0.0; ma * n];
         let mut c_q = vec![0.0; ma * n];
-        let mut c_q_first = vec![0.0; ma * n];
         let mut c_v = vec![0.0; ma * n];
-        // Σ_k x_k H_k (n × n) for x = λ and x = λ₁.
+        // Σ_k λ_k H_k (n × n).
         let mut lambda_h = vec![0.0; n * n];
-        let mut lambda_h_first = vec![0.0; n * n];
         for (i, &k) in self.active.iter().enumerate() {
             let row = &ce.rows[k];
             let cols = local_columns(row.body_a, row.body_b);
@@ -129,9 +120,9 @@ impl Dae {
                 }
                 out
             };
-            let (acc_l, acc_first_l, v_l) = (local(acc), local(&acc_first), local(v));
+            let (acc_l, v_l) = (local(acc), local(v));
             let h = &curvature[k].hessian;
-            let (lambda, lambda1) = (eval.lambda[k], lambda_first[i]);
+            let lambda = eval.lambda[k];
             for (l, cl) in cols.iter().enumerate() {
                 let Some(cl) = *cl else { continue };
                 let jac_l = if l < 3 {
@@ -140,28 +131,25 @@ impl Dae {
                     row.jac_b[l - 3]
                 };
                 let h_acc: f64 = (0..6).map(|p| h[l][p] * acc_l[p]).sum();
-                let h_acc_first: f64 = (0..6).map(|p| h[l][p] * acc_first_l[p]).sum();
                 let h_v: f64 = (0..6).map(|p| h[l][p] * v_l[p]).sum();
                 jac[i * n + cl] += jac_l;
-                let c = curvature[k].gamma_q[l] - 2.0 * alpha * h_v - beta * beta * jac_l;
-                c_q[i * n + cl] += c - h_acc;
-                c_q_first[i * n + cl] += c - h_acc_first;
+                c_q[i * n + cl] +=
+                    curvature[k].gamma_q[l] - 2.0 * alpha * h_v - beta * beta * jac_l - h_acc;
                 c_v[i * n + cl] += curvature[k].gamma_v[l] - 2.0 * alpha * jac_l;
                 for (p, cp) in cols.iter().enumerate() {
                     if let Some(cp) = cp {
                         lambda_h[cl * n + cp] += lambda * h[l][p];
-                        lambda_h_first[cl * n + cp] += lambda1 * h[l][p];
                     }
                 }
             }
         }
-        // A = S + μD, formed and factored by the right-hand side's own solver (its structure
-        // and storage; the RHS factors it afresh at every call, so borrowing it here leaves
-        // nothing behind).
+        // A = S + diag(Δ), S = Φ_q M⁻¹ Φ_qᵀ, formed and factored by the right-hand side's own
+        // solver with the same regularised pivots (its structure and storage; the RHS factors
+        // it afresh at every call, so borrowing it here leaves nothing behind).
         let mut work = self.work.borrow_mut();
         let schur = &mut work.schur;
         if let Err(pivot) =
-            schur.factor_shifted(&ce.rows, &self.active, &self.inv_mass, &self.shift)
+            schur.factor_regularised(&ce.rows, &self.active, &self.inv_mass, &self.shift)
         {
             return Err(FormulationError::SingularConstraints {
                 t,
@@ -173,12 +161,16 @@ impl Dae {
         for c in 0..n {
             out[c * ny + n + c] = 1.0;
         }
-        let (mut r, mut r_first) = (vec![0.0; n], vec![0.0; n]);
-        let (mut d_lambda, mut d_lambda_first) = (vec![0.0; ma], vec![0.0; ma]);
-        let mut force = vec![0.0; n];
-        // g(x) = Φ_q M⁻¹ r_x − s_x = ∂b − (∂S) x along column `col`.
-        let g = |r: &[f64], c_q: &[f64], col: usize, out: &mut [f64]| {
-            for (i, b) in out.iter_mut().enumerate() {
+        let mut r = vec![0.0; n];
+        let mut rhs = vec![0.0; ma];
+        for col in 0..n_cols {
+            for c in 0..n {
+                r[c] = dq_force[c * n_cols + col];
+                if col < n {
+                    r[c] -= lambda_h[c * n + col];
+                }
+            }
+            for (i, b) in rhs.iter_mut().enumerate() {
                 let s = if col < n {
                     c_q[i * n + col]
                 } else if col < 2 * n {
@@ -189,43 +181,15 @@ impl Dae {
                 let row = &jac[i * n..(i + 1) * n];
                 *b = row
                     .iter()
-                    .zip(r)
+                    .zip(&r)
                     .zip(&self.inv_mass)
                     .map(|((a, r), im)| a * im * r)
                     .sum::<f64>()
                     - s;
             }
-        };
-        for col in 0..n_cols {
+            schur.solve(&mut rhs);
             for c in 0..n {
-                r[c] = dq_force[c * n_cols + col];
-                r_first[c] = r[c];
-                if col < n {
-                    r[c] -= lambda_h[c * n + col];
-                    r_first[c] -= lambda_h_first[c * n + col];
-                }
-            }
-            // ∂λ₁ = A⁻¹ g(λ₁).
-            g(&r_first, &c_q_first, col, &mut d_lambda_first);
-            schur.solve(&mut d_lambda_first);
-            // ∂λ = ∂λ₁ + A⁻¹ (g(λ) − S ∂λ₁), S ∂λ₁ = Φ_q M⁻¹ Φ_qᵀ ∂λ₁.
-            for (c, f) in force.iter_mut().enumerate() {
-                *f = self.inv_mass[c]
-                    * (0..ma)
-                        .map(|i| jac[i * n + c] * d_lambda_first[i])
-                        .sum::<f64>();
-            }
-            g(&r, &c_q, col, &mut d_lambda);
-            for (i, d) in d_lambda.iter_mut().enumerate() {
-                let row = &jac[i * n..(i + 1) * n];
-                *d -= row.iter().zip(&force).map(|(a, f)| a * f).sum::<f64>();
-            }
-            schur.solve(&mut d_lambda);
-            for (d, d1) in d_lambda.iter_mut().zip(&d_lambda_first) {
-                *d += d1;
-            }
-            for c in 0..n {
-                let constraint: f64 = (0..ma).map(|i| jac[i * n + c] * d_lambda[i]).sum();
+                let constraint: f64 = (0..ma).map(|i| jac[i * n + c] * rhs[i]).sum();
                 out[(n + c) * ny + col] = self.inv_mass[c] * (r[c] - constraint);
             }
         }
