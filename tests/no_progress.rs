@@ -230,8 +230,8 @@ fn healthy_contact_runs_stay_far_from_the_threshold() {
 }
 
 /// The reference four-bar with a crank of 0.4 m: at θ2 = π the coupler and rocker are
-/// stretched into a line (0.4 + 0.8 = 0.75 + 0.45), a singular position (the toggle of
-/// `tests/bad_models.rs`).
+/// stretched into a line (0.4 + 0.8 = 0.75 + 0.45) and the driven motion cannot go on (the
+/// toggle of `tests/bad_models.rs`).
 fn toggle() -> linkdyn::model::Model {
     linkdyn::model::load(
         "models/fourbar_ideal.toml".as_ref(),
@@ -242,20 +242,6 @@ fn toggle() -> linkdyn::model::Model {
         ],
     )
     .unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The diagnosis of a stall, split at its one number: σ_min/σ_max.
-fn split_ratio(message: &str) -> (&str, f64, &str) {
-    let key = "(σ_min/σ_max = ";
-    let Some(at) = message.find(key) else {
-        panic!("no singular-value ratio in: {message}");
-    };
-    let (head, rest) = message.split_at(at + key.len());
-    let end = rest.find(' ').unwrap_or(rest.len());
-    let ratio = rest[..end]
-        .parse()
-        .unwrap_or_else(|e| panic!("{e}: {message}"));
-    (head, ratio, &rest[end..])
 }
 
 /// The reference four-bar with a crank of 0.45 m: the loop closes only while the crank tip A is
@@ -278,6 +264,56 @@ fn lock() -> linkdyn::model::Model {
 /// With its rank-robust multiplier solve the DAE goes through the toggle above (the crank of
 /// 0.4 m turns on while coupler and rocker fold back; `tests/singular_parallelogram.rs` for
 /// such passages), so the stall is shown at a true lock, where no motion can go on.
+/// The diagnosis of a stall, split at its one number: σ_min/σ_max.
+fn split_ratio(message: &str) -> (&str, f64, &str) {
+    let key = "(σ_min/σ_max = ";
+    let Some(at) = message.find(key) else {
+        panic!("no singular-value ratio in: {message}");
+    };
+    let (head, rest) = message.split_at(at + key.len());
+    let end = rest.find(' ').unwrap_or(rest.len());
+    let ratio = rest[..end]
+        .parse()
+        .unwrap_or_else(|e| panic!("{e}: {message}"));
+    (head, ratio, &rest[end..])
+}
+
+#[test]
+fn a_stall_at_a_toggle_names_the_constraints_that_lose_independence() {
+    let model = toggle();
+    let mut dae = Dae::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let err = failure(&mut dae, 0.24, &SolverOptions::default());
+    let SolveError::NoProgress { t, .. } = err else {
+        panic!("expected NoProgress, got {err}");
+    };
+    let message = err.to_string();
+    let (head, ratio, tail) = split_ratio(&message);
+    // At the toggle the four joints lie on the x axis: their x rows sum to the loop's
+    // x-closure, which no longer constrains anything independent of the others, with equal
+    // shares 1/√4 = 0.50 of the dependence. The stall is ~1.5e-6 s (4e-5 rad of crank) from the
+    // toggle, where σ_min/σ_max ~ √(distance) · L-scaling (measured 3.2e-7); below 1e-5 says
+    // the rows are dependent to the digits the message shows.
+    assert_eq!(
+        head,
+        format!(
+            "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by 1.193e-7 s (mean step 1.193e-10 s); reaching t_end at this pace needs about 1.0e9 more attempts. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model. At t = {t:.9} s: the constraint rows \"O2.x\" (0.50), \"A.x\" (0.50), \"B.x\" (0.50), \"O4.x\" (0.50) are nearly dependent: the linkage is at or near a singular position (σ_min/σ_max = "
+        )
+    );
+    assert!(ratio < 1e-5, "σ_min/σ_max = {ratio:e} at the toggle");
+    assert_eq!(
+        tail,
+        " of the scaled constraint Jacobian; in parentheses each row's share |u_i| of the dependence)"
+    );
+    // The toggle is at θ2 = π: t = π/ω = 0.12 s at 250 rpm.
+    assert!(
+        (t - 0.12).abs() < 1e-4,
+        "stalled at t = {t} s, toggle at 0.12 s"
+    );
+}
+
+/// A true lock, where no motion can go on, stalls the DAE too, at the lock, although its
+/// multiplier solve is regularised (`src/formulation/dae.rs`; it goes through the flat
+/// positions of a parallelogram, `tests/singular_parallelogram.rs`).
 #[test]
 fn a_stall_at_a_lock_names_the_constraints_that_lose_independence() {
     let model = lock();

@@ -8,10 +8,37 @@
 //! ```
 //!
 //! so that the constraint error obeys Φ̈ + 2αΦ̇ + β²Φ = 0 (ref. 1). M is diagonal, so λ follows
-//! from the Schur complement S λ = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), S = Φ_q M⁻¹ Φ_qᵀ (SPD when
-//! the rows are independent; redundant rows found at assembly are left out), factored by
+//! from the Schur complement S λ = b, b = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), S = Φ_q M⁻¹ Φ_qᵀ (SPD
+//! when the rows are independent; redundant rows found at assembly are left out), factored by
 //! Cholesky each evaluation ([`super::schur`]: dense for a few rows, skyline over a
 //! reverse Cuthill–McKee order computed once for many); then q̈ = M⁻¹ (Q − Φ_qᵀ λ).
+//!
+//! # Singular positions: regularised pivots
+//!
+//! At a distance s from a singular position (a toggle, a parallelogram's flat position) S's
+//! smallest eigenvalue goes like s², and a drift ε in Φ or Φ̇ gives λ a part ε/s² along the
+//! near-null direction u, a constraint force ε/s: a pole that the step-size control cannot
+//! step over. So S is factored with every pivot regularised ([`Schur::factor_regularised`]),
+//!
+//! ```text
+//!     d_p  →  d_p + μ_p² / (d_p + μ_p),      μ_p = 1e-10 S_pp(q₀)
+//! ```
+//!
+//! the exact factor of A = S + diag(Δ), and λ = A⁻¹ b. A healthy pivot moves by a relative
+//! (μ_p/d_p)² (below round-off), a collapsing one stays ≥ μ_p, which bounds the force along u
+//! by ~ε/√μ; smooth in q (no threshold), one division per pivot. Within ~√μ of the singular
+//! position the motion is free along u and inertia carries it through on the branch it is on;
+//! at a true lock (b not in the range of Φ_q: no motion can go on) the force grows like 1/μ and
+//! the step size collapses there, which the stall diagnosis reports
+//! ([`super::diagnosis`]). The drift left by the integration must decay between two passages
+//! (by the Baumgarte terms) faster than a passage amplifies it (~1e3): for passages every T
+//! seconds α, β ≳ 10/T; with less the motion can continue on the crossed branch without an
+//! error (docs/formulations.md, "The DAE at singular positions", with the measurements and
+//! the alternatives tried).
+//!
+//! Joint reactions near a singular position are finite but not unique: their sum over a loop's
+//! ground joints is (Newton's law), their split is up to a self-stress that the near-null
+//! direction carries, of the order of (drift)/s in the reported values.
 //!
 //! Sign conventions: −Φ_qᵀ λ is the constraint force. The reaction of a joint reported on its
 //! second body b is −(∂Φ/∂r_b)ᵀ λ over the joint's rows; a driver's torque on body b is −λ.
