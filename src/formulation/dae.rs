@@ -333,9 +333,17 @@ impl Dae {
         // The right-hand side b = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), with W = M⁻¹ Φ_qᵀ by row
         // blocks.
         for (i, &ri) in self.active.iter().enumerate() {
-            let c = ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri];
-            work.lambda[i] =
-                weighted_dot(&ce.rows[ri], &work.schur.weighted()[i], &work.forces) - c;
+            let row = &ce.rows[ri];
+            let mut rhs = -(ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri]);
+            let w = &work.schur.weighted()[i];
+            for (side, body) in [row.body_a, row.body_b].into_iter().enumerate() {
+                if let Some(b) = body {
+                    for c in 0..3 {
+                        rhs += w[side][c] * work.forces[3 * b + c];
+                    }
+                }
+            }
+            work.lambda[i] = rhs;
         }
         // λ = A⁻¹ b.
         work.schur.solve(&mut work.lambda);
@@ -615,26 +623,10 @@ fn shift_at(
 /// 1e-6 of the flat position still saw forces the step size could not resolve); the motion is
 /// left unconstrained along that direction only within ~√μ = 1e-5 (relative) of the singular
 /// position, which costs the pendulum reference ~1e-9 rad per passage (1e-8 would cost 1e-7,
-/// measured on the chain of three); and healthy pivots (ratio r = d/S_kk) move by
-/// (μ/r)² ≤ 1e-14 for r ≥ 1e-3, below round-off on the shipped models.
+/// measured on the chain of three); and healthy pivots (ratio r = d/S_kk) move by a relative
+/// (μ/r)², below half an ulp for r ≳ 1e-2: the shipped models' runs are bit for bit those of
+/// the plain solve but for watt_sixbar (≤ 3.6e-13 relative, a pivot ratio near 1e-3).
 pub const PIVOT_REGULARISATION: f64 = 1e-10;
-
-/// Φ_q,i M⁻¹ f for the row `row` whose weighted blocks M⁻¹ Φ_q,iᵀ are `w`, f over all coordinates.
-fn weighted_dot(
-    row: &crate::mechanics::constraints::ConstraintRow,
-    w: &[[f64; 3]; 2],
-    f: &[f64],
-) -> f64 {
-    let mut sum = 0.0;
-    for (side, body) in [row.body_a, row.body_b].into_iter().enumerate() {
-        if let Some(b) = body {
-            for c in 0..3 {
-                sum += w[side][c] * f[3 * b + c];
-            }
-        }
-    }
-    sum
-}
 
 /// f −= Φ_qᵀ x over the active rows.
 fn subtract_constraint_forces(

@@ -421,7 +421,7 @@ fn dense_factor_regularised(a: &mut [f64], m: usize, shift: &[f64]) -> Result<()
         let (lj, tail_j) = row_j.split_at_mut(j);
         let d = tail_j[0] - lj.iter().map(|x| x * x).sum::<f64>();
         let d = regularised_pivot(d, shift[j]);
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return Err(j);
         }
         let inv = 1.0 / d.sqrt();
@@ -463,7 +463,7 @@ fn skyline_factor_regularised(
             diagonal[0] - off.iter().map(|x| x * x).sum::<f64>(),
             shift(p),
         );
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return Err(p);
         }
         diagonal[0] = 1.0 / d.sqrt();
