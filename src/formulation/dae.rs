@@ -21,7 +21,7 @@
 //! step over. So S is factored with every pivot regularised ([`Schur::factor_regularised`]),
 //!
 //! ```text
-//!     d_p  →  d_p + μ_p² / (d_p + μ_p),      μ_p = 1e-10 S_pp(q₀)
+//!     d_p  →  d_p + μ_p² / (d_p + μ_p),      μ_p = 1e-10 D_p
 //! ```
 //!
 //! the exact factor of A = S + diag(Δ), and λ = A⁻¹ b. A healthy pivot moves by a relative
@@ -124,8 +124,8 @@ pub struct Dae {
     /// Clearance joints (contact-force laws, no constraint rows).
     contacts: ContactSites,
     inv_mass: Vec<f64>,
-    /// The pivot regularisation μ_k = [`PIVOT_REGULARISATION`] · S_kk (S at the assembled
-    /// state) of the multiplier solve, per active row.
+    /// The pivot regularisation μ_k = [`PIVOT_REGULARISATION`] · D_k (D_k the translational part
+    /// of S_kk) of the multiplier solve, per active row.
     shift: Vec<f64>,
     baumgarte: Baumgarte,
     /// Energy bookkeeping states are integrated.
@@ -215,9 +215,9 @@ impl Dae {
     /// Chooses how the Schur complement is stored and factored (default
     /// [`SchurSolver::Auto`]); the same accelerations to round-off either way.
     #[must_use]
-    pub fn with_schur_solver(self, solver: SchurSolver) -> Self {
+    pub fn with_schur_solver(mut self, solver: SchurSolver) -> Self {
         let schur = schur_at(&self.constraints, &self.active, &self.assembly, solver);
-        self.work.borrow_mut().schur = schur;
+        self.work.get_mut().schur = schur;
         self
     }
 
@@ -598,9 +598,12 @@ fn schur_at(
     Schur::new(&eval.rows, active, solver)
 }
 
-/// The pivot regularisation of the multiplier solve, μ_k = [`PIVOT_REGULARISATION`] · S_kk,
-/// with S's diagonal at the assembled state (S_kk = Φ_q,k M⁻¹ Φ_q,kᵀ, the inverse mass row k
-/// sees: a fixed scale in the row's own units, so that μ_k does not depend on q).
+/// The pivot regularisation of the multiplier solve, μ_k = [`PIVOT_REGULARISATION`] · D_k with
+/// D_k the translational part of S_kk ([`super::schur::translational_diagonal`]): a scale in
+/// the row's units that does not change as the bodies turn. (S_kk itself, or the pivots at the
+/// assembled state, vary with the orientation by m·arm²/I: for a body of almost no rotational
+/// inertia, 2.5e8 in `tests/pendulum_pivot_reaction.rs`, which would let μ reach a relative 1e-2
+/// of a pivot elsewhere on the motion.)
 fn shift_at(
     set: &ConstraintSet,
     active: &[usize],
@@ -610,7 +613,7 @@ fn shift_at(
     let mut eval = ConstraintEval::with_rows(set.n_rows());
     let sin_cos = sin_cos_of(&assembly.q);
     set.evaluate_into(0.0, &assembly.q, &assembly.v, &sin_cos, &mut eval);
-    super::schur::diagonal(&eval.rows, active, inv_mass)
+    super::schur::translational_diagonal(&eval.rows, active, inv_mass)
         .into_iter()
         .map(|d| PIVOT_REGULARISATION * d)
         .collect()
@@ -623,9 +626,8 @@ fn shift_at(
 /// 1e-6 of the flat position still saw forces the step size could not resolve); the motion is
 /// left unconstrained along that direction only within ~√μ = 1e-5 (relative) of the singular
 /// position, which costs the pendulum reference ~1e-9 rad per passage (1e-8 would cost 1e-7,
-/// measured on the chain of three); and healthy pivots (ratio r = d/S_kk) move by a relative
-/// (μ/r)², below half an ulp for r ≳ 1e-2: the shipped models' runs are bit for bit those of
-/// the plain solve but for watt_sixbar (≤ 3.6e-13 relative, a pivot ratio near 1e-3).
+/// measured on the chain of three); and a pivot d moves by a relative (μD/d)², below half an
+/// ulp for d ≳ 1e-2 D.
 pub const PIVOT_REGULARISATION: f64 = 1e-10;
 
 /// f −= Φ_qᵀ x over the active rows.

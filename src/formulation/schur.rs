@@ -98,22 +98,36 @@ pub struct Schur {
     diagonal: Vec<usize>,
 }
 
-/// The diagonal of S = Φ_q M⁻¹ Φ_qᵀ for the rows `rows[active[k]]`: S_kk = Φ_q,k M⁻¹ Φ_q,kᵀ,
-/// the inverse mass that row k sees along its own direction (1/kg for a position row,
-/// 1/(kg·m²) for an angle row).
-pub fn diagonal(rows: &[ConstraintRow], active: &[usize], inv_mass: &[f64]) -> Vec<f64> {
+/// An orientation-free scale of S's diagonal for the rows `rows[active[k]]`: the part of
+/// S_kk = Φ_q,k M⁻¹ Φ_q,kᵀ from the translations, Σ_bodies (∂Φ_k/∂x² + ∂Φ_k/∂y²)/m, which for
+/// a joint row (unit directions) does not change as the bodies turn, where the rotational part
+/// (∂Φ_k/∂φ)²/I does, by the ratio of m·arm² to I; for a row with no translational part (an
+/// angle row: a driver) its rotational part, constant too.
+pub fn translational_diagonal(
+    rows: &[ConstraintRow],
+    active: &[usize],
+    inv_mass: &[f64],
+) -> Vec<f64> {
     active
         .iter()
         .map(|&r| {
-            blocks(&rows[r])
-                .into_iter()
-                .filter_map(|(body, jac)| body.map(|b| (b, jac)))
-                .map(|(b, jac)| {
-                    (0..3)
-                        .map(|c| jac[c] * jac[c] * inv_mass[3 * b + c])
-                        .sum::<f64>()
-                })
-                .sum()
+            let part = |cs: &[usize]| -> f64 {
+                blocks(&rows[r])
+                    .into_iter()
+                    .filter_map(|(body, jac)| body.map(|b| (b, jac)))
+                    .map(|(b, jac)| {
+                        cs.iter()
+                            .map(|&c| jac[c] * jac[c] * inv_mass[3 * b + c])
+                            .sum::<f64>()
+                    })
+                    .sum()
+            };
+            let translational = part(&[0, 1]);
+            if translational > 0.0 {
+                translational
+            } else {
+                part(&[2])
+            }
         })
         .collect()
 }

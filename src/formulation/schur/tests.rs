@@ -197,8 +197,8 @@ fn reverse_cuthill_mckee_makes_a_shuffled_chain_banded() {
     );
 }
 
-/// The regularised pivots of [`Schur::factor_regularised`] (μ = 1e-10 of each diagonal, as the
-/// DAE uses): on positive definite S they change the solution by (μ/r)² relative (r the pivot
+/// The regularised pivots of [`Schur::factor_regularised`] (μ = 1e-10 of each row's
+/// translational diagonal, as the DAE uses): on positive definite S they change the solution by (μ/r)² relative (r the pivot
 /// ratios), below round-off; on a singular S (a repeated row) both storages factor and the
 /// solution is finite, bounded by ~|b|/μ, and satisfies S x = b along the rows that are
 /// independent (the other copy's residual is what the shift absorbs).
@@ -212,7 +212,7 @@ fn regularised_pivots_leave_a_regular_solve_alone_and_bound_a_singular_one() {
         let rows = random_rows(&mut rng, n_bodies, n_joints);
         let active: Vec<usize> = (0..rows.len()).collect();
         let inv_mass: Vec<f64> = (0..3 * n_bodies).map(|_| 0.5 + 2.0 * rng.next()).collect();
-        let shift: Vec<f64> = diagonal(&rows, &active, &inv_mass)
+        let shift: Vec<f64> = translational_diagonal(&rows, &active, &inv_mass)
             .iter()
             .map(|d| 1e-10 * d)
             .collect();
@@ -253,7 +253,7 @@ fn regularised_pivots_leave_a_regular_solve_alone_and_bound_a_singular_one() {
     rows[41] = rows[17];
     let active: Vec<usize> = (0..rows.len()).collect();
     let inv_mass = vec![1.0; 120];
-    let shift: Vec<f64> = diagonal(&rows, &active, &inv_mass)
+    let shift: Vec<f64> = translational_diagonal(&rows, &active, &inv_mass)
         .iter()
         .map(|d| 1e-10 * d)
         .collect();
