@@ -244,6 +244,26 @@ fn toggle() -> linkdyn::model::Model {
     .unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The reference four-bar with a crank of 0.45 m: the loop closes only while the crank tip A is
+/// within reach of the stretched coupler and rocker, |O4 A| ≤ 0.75 + 0.45 = 1.2 m, i.e.
+/// 0.8425 − 0.72 cos θ2 ≤ 1.44, θ2 ≤ 2.550 rad (t = 0.0974 s at 250 rpm). There the driver
+/// would carry the crank on, where no position of the coupler and rocker closes the loop: a
+/// true lock, which no solve of the multipliers can pass.
+fn lock() -> linkdyn::model::Model {
+    linkdyn::model::load(
+        "models/fourbar_ideal.toml".as_ref(),
+        &[
+            "bodies.crank.points.A=[0.225,0.0]".to_string(),
+            "bodies.crank.points.O2=[-0.225,0.0]".to_string(),
+            "bodies.crank.initial.x=0.225".to_string(),
+        ],
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// With its rank-robust multiplier solve the DAE goes through the toggle above (the crank of
+/// 0.4 m turns on while coupler and rocker fold back; `tests/singular_parallelogram.rs` for
+/// such passages), so the stall is shown at a true lock, where no motion can go on.
 /// The diagnosis of a stall, split at its one number: σ_min/σ_max.
 fn split_ratio(message: &str) -> (&str, f64, &str) {
     let key = "(σ_min/σ_max = ";
@@ -271,12 +291,12 @@ fn a_stall_at_a_toggle_names_the_constraints_that_lose_independence() {
     // At the toggle the four joints lie on the x axis: their x rows sum to the loop's
     // x-closure, which no longer constrains anything independent of the others, with equal
     // shares 1/√4 = 0.50 of the dependence. The stall is ~1.5e-6 s (4e-5 rad of crank) from the
-    // toggle, where σ_min/σ_max ~ √(distance) · L-scaling (measured 4.9e-7); below 1e-5 says
+    // toggle, where σ_min/σ_max ~ √(distance) · L-scaling (measured 3.2e-7); below 1e-5 says
     // the rows are dependent to the digits the message shows.
     assert_eq!(
         head,
         format!(
-            "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by 9.977e-8 s (mean step 9.977e-11 s); reaching t_end at this pace needs about 1.2e9 more attempts. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model. At t = {t:.9} s: the constraint rows \"O2.x\" (0.50), \"A.x\" (0.50), \"B.x\" (0.50), \"O4.x\" (0.50) are nearly dependent: the linkage is at or near a singular position (σ_min/σ_max = "
+            "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by 9.317e-8 s (mean step 9.317e-11 s); reaching t_end at this pace needs about 1.3e9 more attempts. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model. At t = {t:.9} s: the constraint rows \"O2.x\" (0.50), \"A.x\" (0.50), \"B.x\" (0.50), \"O4.x\" (0.50) are nearly dependent: the linkage is at or near a singular position (σ_min/σ_max = "
         )
     );
     assert!(ratio < 1e-5, "σ_min/σ_max = {ratio:e} at the toggle");
@@ -288,6 +308,45 @@ fn a_stall_at_a_toggle_names_the_constraints_that_lose_independence() {
     assert!(
         (t - 0.12).abs() < 1e-4,
         "stalled at t = {t} s, toggle at 0.12 s"
+    );
+}
+
+/// A true lock, where no motion can go on, stalls the DAE too, at the lock, although its
+/// multiplier solve is regularised (`src/formulation/dae.rs`; it goes through the flat
+/// positions of a parallelogram, `tests/singular_parallelogram.rs`).
+#[test]
+fn a_stall_at_a_lock_names_the_constraints_that_lose_independence() {
+    let model = lock();
+    let mut dae = Dae::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let err = failure(&mut dae, 0.24, &SolverOptions::default());
+    let SolveError::NoProgress { t, .. } = err else {
+        panic!("expected NoProgress, got {err:?}");
+    };
+    let message = err.to_string();
+    let (head, ratio, tail) = split_ratio(&message);
+    // At the lock coupler and rocker are stretched along n = (O4 − A)/|O4 − A| =
+    // (0.979, −0.207): the loop closure along n, Σ_joints (n_x x-row + n_y y-row), no longer
+    // constrains anything the other rows do not, with shares |n_x|/2 = 0.49 and
+    // |n_y|/2 = 0.10 of the dependence. σ_min/σ_max measured 6.8e-8 at the stall; below 1e-5
+    // says the rows are dependent to the digits the message shows.
+    assert_eq!(
+        head,
+        format!(
+            "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by 1.102e-7 s (mean step 1.102e-10 s); reaching t_end at this pace needs about 1.3e9 more attempts. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model. At t = {t:.9} s: the constraint rows \"O2.x\" (0.49), \"A.x\" (0.49), \"B.x\" (0.49), \"O4.x\" (0.49), \"O4.y\" (0.10), \"B.y\" (0.10) and 3 more are nearly dependent: the linkage is at or near a singular position (σ_min/σ_max = "
+        )
+    );
+    assert!(ratio < 1e-5, "σ_min/σ_max = {ratio:e} at the lock");
+    assert_eq!(
+        tail,
+        " of the scaled constraint Jacobian; in parentheses each row's share |u_i| of the dependence)"
+    );
+    // The lock: |O4 A|² = 0.8425 − 0.72 cos θ2 reaches 1.2² at θ2 = 2.551 rad, t = 0.09739 s
+    // at 250 rpm.
+    let omega = 250.0 * std::f64::consts::TAU / 60.0;
+    let t_lock = ((0.8425_f64 - 1.44) / 0.72).acos() / omega;
+    assert!(
+        (t - t_lock).abs() < 1e-6,
+        "stalled at t = {t} s, lock at {t_lock} s"
     );
 }
 

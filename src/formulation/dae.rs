@@ -8,10 +8,37 @@
 //! ```
 //!
 //! so that the constraint error obeys Φ̈ + 2αΦ̇ + β²Φ = 0 (ref. 1). M is diagonal, so λ follows
-//! from the Schur complement S λ = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), S = Φ_q M⁻¹ Φ_qᵀ (SPD when
-//! the rows are independent; redundant rows found at assembly are left out), factored by
+//! from the Schur complement S λ = b, b = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), S = Φ_q M⁻¹ Φ_qᵀ (SPD
+//! when the rows are independent; redundant rows found at assembly are left out), factored by
 //! Cholesky each evaluation ([`super::schur`]: dense for a few rows, skyline over a
 //! reverse Cuthill–McKee order computed once for many); then q̈ = M⁻¹ (Q − Φ_qᵀ λ).
+//!
+//! # Singular positions: regularised pivots
+//!
+//! At a distance s from a singular position (a toggle, a parallelogram's flat position) S's
+//! smallest eigenvalue goes like s², and a drift ε in Φ or Φ̇ gives λ a part ε/s² along the
+//! near-null direction u, a constraint force ε/s: a pole that the step-size control cannot
+//! step over. So S is factored with every pivot regularised ([`Schur::factor_regularised`]),
+//!
+//! ```text
+//!     d_p  →  d_p + μ_p² / (d_p + μ_p),      μ_p = 1e-10 D_p
+//! ```
+//!
+//! the exact factor of A = S + diag(Δ), and λ = A⁻¹ b. A healthy pivot moves by a relative
+//! (μ_p/d_p)² (below round-off), a collapsing one stays ≥ μ_p, which bounds the force along u
+//! by ~ε/√μ; smooth in q (no threshold), one division per pivot. Within ~√μ of the singular
+//! position the motion is free along u and inertia carries it through on the branch it is on;
+//! at a true lock (b not in the range of Φ_q: no motion can go on) the force grows like 1/μ and
+//! the step size collapses there, which the stall diagnosis reports
+//! ([`super::diagnosis`]). The drift left by the integration must decay between two passages
+//! (by the Baumgarte terms) faster than a passage amplifies it (~1e3): for passages every T
+//! seconds α, β ≳ 10/T; with less the motion can continue on the crossed branch without an
+//! error (docs/formulations.md, "The DAE at singular positions", with the measurements and
+//! the alternatives tried).
+//!
+//! Joint reactions near a singular position are finite but not unique: their sum over a loop's
+//! ground joints is (Newton's law), their split is up to a self-stress that the near-null
+//! direction carries, of the order of (drift)/s in the reported values.
 //!
 //! Sign conventions: −Φ_qᵀ λ is the constraint force. The reaction of a joint reported on its
 //! second body b is −(∂Φ/∂r_b)ᵀ λ over the joint's rows; a driver's torque on body b is −λ.
@@ -97,6 +124,9 @@ pub struct Dae {
     /// Clearance joints (contact-force laws, no constraint rows).
     contacts: ContactSites,
     inv_mass: Vec<f64>,
+    /// The pivot regularisation μ_k = [`PIVOT_REGULARISATION`] · D_k (D_k the translational part
+    /// of S_kk) of the multiplier solve, per active row.
+    shift: Vec<f64>,
     baumgarte: Baumgarte,
     /// Energy bookkeeping states are integrated.
     energy: bool,
@@ -139,7 +169,7 @@ impl Dae {
             0.0,
         )?;
         let active: Vec<usize> = (0..m).filter(|k| !redundant.contains(k)).collect();
-        let inv_mass = model
+        let inv_mass: Vec<f64> = model
             .bodies
             .iter()
             .flat_map(|b| [1.0 / b.mass, 1.0 / b.mass, 1.0 / b.inertia])
@@ -147,6 +177,7 @@ impl Dae {
         let nb = model.bodies.len();
         let ma = active.len();
         let schur = schur_at(&constraints, &active, &assembly, SchurSolver::Auto);
+        let shift = shift_at(&constraints, &active, &assembly, &inv_mass);
         let mut dae = Dae {
             model: model.clone(),
             active,
@@ -154,6 +185,7 @@ impl Dae {
             applied: AppliedForces::from_model(model),
             contacts: ContactSites::from_model(model),
             inv_mass,
+            shift,
             baumgarte: options.baumgarte.unwrap_or(model.settings.baumgarte),
             energy: options.energy,
             initial_energy: 0.0,
@@ -183,9 +215,9 @@ impl Dae {
     /// Chooses how the Schur complement is stored and factored (default
     /// [`SchurSolver::Auto`]); the same accelerations to round-off either way.
     #[must_use]
-    pub fn with_schur_solver(self, solver: SchurSolver) -> Self {
+    pub fn with_schur_solver(mut self, solver: SchurSolver) -> Self {
         let schur = schur_at(&self.constraints, &self.active, &self.assembly, solver);
-        self.work.borrow_mut().schur = schur;
+        self.work.get_mut().schur = schur;
         self
     }
 
@@ -287,17 +319,19 @@ impl Dae {
 
         let ce = &work.constraints;
         let Baumgarte { alpha, beta } = self.baumgarte;
-        // S = Φ_q M⁻¹ Φ_qᵀ over its structural non-zeros, factored in place.
-        if let Err(k) = work
-            .schur
-            .factor(&ce.rows, &self.active, &self.inv_mass, 0.0)
+        // S = Φ_q M⁻¹ Φ_qᵀ over its structural non-zeros, factored in place with regularised
+        // pivots: A = S + diag(Δ) (module documentation).
+        if let Err(k) =
+            work.schur
+                .factor_regularised(&ce.rows, &self.active, &self.inv_mass, &self.shift)
         {
             return Err(FormulationError::SingularConstraints {
                 t,
                 constraint: self.constraints.row_name(&self.model, self.active[k]),
             });
         }
-        // The right-hand side Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), with W = M⁻¹ Φ_qᵀ by row blocks.
+        // The right-hand side b = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), with W = M⁻¹ Φ_qᵀ by row
+        // blocks.
         for (i, &ri) in self.active.iter().enumerate() {
             let row = &ce.rows[ri];
             let mut rhs = -(ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri]);
@@ -311,23 +345,11 @@ impl Dae {
             }
             work.lambda[i] = rhs;
         }
+        // λ = A⁻¹ b.
         work.schur.solve(&mut work.lambda);
         // q̈ = M⁻¹ (Q − Φ_qᵀ λ).
         acc.copy_from_slice(&work.forces);
-        for (i, &ri) in self.active.iter().enumerate() {
-            let row = &ce.rows[ri];
-            let l = work.lambda[i];
-            if let Some(a) = row.body_a {
-                for c in 0..3 {
-                    acc[3 * a + c] -= row.jac_a[c] * l;
-                }
-            }
-            if let Some(b) = row.body_b {
-                for c in 0..3 {
-                    acc[3 * b + c] -= row.jac_b[c] * l;
-                }
-            }
-        }
+        subtract_constraint_forces(&ce.rows, &self.active, &work.lambda, acc);
         for (a, im) in acc.iter_mut().zip(&self.inv_mass) {
             *a *= im;
         }
@@ -574,6 +596,60 @@ fn schur_at(
     let sin_cos = sin_cos_of(&assembly.q);
     set.evaluate_into(0.0, &assembly.q, &assembly.v, &sin_cos, &mut eval);
     Schur::new(&eval.rows, active, solver)
+}
+
+/// The pivot regularisation of the multiplier solve, μ_k = [`PIVOT_REGULARISATION`] · D_k with
+/// D_k the translational part of S_kk ([`super::schur::translational_diagonal`]): a scale in
+/// the row's units that does not change as the bodies turn. (S_kk itself, or the pivots at the
+/// assembled state, vary with the orientation by m·arm²/I: for a body of almost no rotational
+/// inertia, 2.5e8 in `tests/pendulum_pivot_reaction.rs`, which would let μ reach a relative 1e-2
+/// of a pivot elsewhere on the motion.)
+fn shift_at(
+    set: &ConstraintSet,
+    active: &[usize],
+    assembly: &Assembly,
+    inv_mass: &[f64],
+) -> Vec<f64> {
+    let mut eval = ConstraintEval::with_rows(set.n_rows());
+    let sin_cos = sin_cos_of(&assembly.q);
+    set.evaluate_into(0.0, &assembly.q, &assembly.v, &sin_cos, &mut eval);
+    super::schur::translational_diagonal(&eval.rows, active, inv_mass)
+        .into_iter()
+        .map(|d| PIVOT_REGULARISATION * d)
+        .collect()
+}
+
+/// Relative regularisation of the pivots of the multiplier solve (module documentation): a
+/// pivot that collapses at a singular position stays at least 1e-10 of its row's diagonal.
+/// Why this size: it bounds the constraint force along the near-null direction by ~ε/√μ for a
+/// drift ε (with 1e-12 the parallelogram's passages stalled at rtol 1e-10: stages within
+/// 1e-6 of the flat position still saw forces the step size could not resolve); the motion is
+/// left unconstrained along that direction only within ~√μ = 1e-5 (relative) of the singular
+/// position, which costs the pendulum reference ~1e-9 rad per passage (1e-8 would cost 1e-7,
+/// measured on the chain of three); and a pivot d moves by a relative (μD/d)², below half an
+/// ulp for d ≳ 1e-2 D.
+pub const PIVOT_REGULARISATION: f64 = 1e-10;
+
+/// f −= Φ_qᵀ x over the active rows.
+fn subtract_constraint_forces(
+    rows: &[crate::mechanics::constraints::ConstraintRow],
+    active: &[usize],
+    x: &[f64],
+    f: &mut [f64],
+) {
+    for (&ri, &l) in active.iter().zip(x) {
+        let row = &rows[ri];
+        if let Some(a) = row.body_a {
+            for c in 0..3 {
+                f[3 * a + c] -= row.jac_a[c] * l;
+            }
+        }
+        if let Some(b) = row.body_b {
+            for c in 0..3 {
+                f[3 * b + c] -= row.jac_b[c] * l;
+            }
+        }
+    }
 }
 
 /// Smallest length scale (m) used for the violation bound, for a linkage whose points all

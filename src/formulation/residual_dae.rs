@@ -46,6 +46,10 @@
 //! explicit methods would carry that difference. On the clearance models the drift stays ten
 //! times below its bound (`tests/constraint_violation_bound.rs`), so GGL buys nothing here.
 //!
+//! Unlike [`Dae`]'s multiplier solve (regularised pivots, `dae.rs`), this form keeps the exact
+//! row F_λ: at a singular position of the linkage its iteration matrix is singular, and IDA is
+//! not claimed through singular positions (docs/formulations.md).
+//!
 //! # Jacobian
 //! J = ∂F/∂Y + c ∂F/∂Ẏ is written densely ([`ResidualForm::jacobian`]). Analytic: the
 //! identity and mass blocks, Φ_q and Φ_qᵀ, the Baumgarte terms 2α Φ_q and β² Φ_q, and the

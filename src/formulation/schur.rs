@@ -98,6 +98,40 @@ pub struct Schur {
     diagonal: Vec<usize>,
 }
 
+/// An orientation-free scale of S's diagonal for the rows `rows[active[k]]`: the part of
+/// S_kk = Φ_q,k M⁻¹ Φ_q,kᵀ from the translations, Σ_bodies (∂Φ_k/∂x² + ∂Φ_k/∂y²)/m, which for
+/// a joint row (unit directions) does not change as the bodies turn, where the rotational part
+/// (∂Φ_k/∂φ)²/I does, by the ratio of m·arm² to I; for a row with no translational part (an
+/// angle row: a driver) its rotational part, constant too.
+pub fn translational_diagonal(
+    rows: &[ConstraintRow],
+    active: &[usize],
+    inv_mass: &[f64],
+) -> Vec<f64> {
+    active
+        .iter()
+        .map(|&r| {
+            let part = |cs: &[usize]| -> f64 {
+                blocks(&rows[r])
+                    .into_iter()
+                    .filter_map(|(body, jac)| body.map(|b| (b, jac)))
+                    .map(|(b, jac)| {
+                        cs.iter()
+                            .map(|&c| jac[c] * jac[c] * inv_mass[3 * b + c])
+                            .sum::<f64>()
+                    })
+                    .sum()
+            };
+            let translational = part(&[0, 1]);
+            if translational > 0.0 {
+                translational
+            } else {
+                part(&[2])
+            }
+        })
+        .collect()
+}
+
 /// The two (body, block) pairs of a row.
 fn blocks(row: &ConstraintRow) -> [(Option<usize>, &[f64; 3]); 2] {
     [(row.body_a, &row.jac_a), (row.body_b, &row.jac_b)]
@@ -243,7 +277,7 @@ impl Schur {
     }
 
     /// M⁻¹ times each row's two Jacobian blocks (block order body a, body b; zero for ground),
-    /// as of the last [`Schur::factor`].
+    /// as of the last [`Schur::factor`] or [`Schur::factor_regularised`].
     pub fn weighted(&self) -> &[[[f64; 3]; 2]] {
         &self.weighted
     }
@@ -261,6 +295,60 @@ impl Schur {
         inv_mass: &[f64],
         shift: f64,
     ) -> Result<(), usize> {
+        self.form(rows, active, inv_mass);
+        if shift > 0.0 {
+            let values = match &mut self.storage {
+                Storage::Dense { a } => a,
+                Storage::Skyline { values, .. } => values,
+            };
+            for &d in &self.diagonal {
+                values[d] += if values[d] == 0.0 {
+                    shift
+                } else {
+                    shift * values[d]
+                };
+            }
+        }
+        self.factor_formed()
+    }
+
+    /// Forms S as [`Schur::factor`] does and factors it with every pivot regularised,
+    ///
+    /// ```text
+    ///     d_p  →  d_p + Δ_p,   Δ_p = μ_p² / (d_p + μ_p),   μ_p = shift[p] > 0
+    /// ```
+    ///
+    /// (row p in the caller's numbering): a smooth modified Cholesky. Adding Δ_p to pivot p
+    /// is adding it to S_pp before the elimination, so the factor is exact for
+    /// A = S + diag(Δ). A healthy pivot d_p ≫ μ_p moves by μ_p²/d_p only, a relative
+    /// (μ_p/d_p)²; a pivot that collapses at a singular position, d_p → 0, becomes μ_p, so that
+    /// A⁻¹ stays bounded by ~1/μ_p along the near-null direction. Smooth in d_p (no
+    /// threshold) for d_p > −μ_p. `Err(k)`: a pivot at or below −μ_p or not finite (never
+    /// from a positive semi-definite S but by round-off far below μ_p).
+    pub fn factor_regularised(
+        &mut self,
+        rows: &[ConstraintRow],
+        active: &[usize],
+        inv_mass: &[f64],
+        shift: &[f64],
+    ) -> Result<(), usize> {
+        self.form(rows, active, inv_mass);
+        match &mut self.storage {
+            Storage::Dense { a } => dense_factor_regularised(a, self.m, shift),
+            Storage::Skyline {
+                perm,
+                first,
+                start,
+                values,
+                ..
+            } => skyline_factor_regularised(first, start, values, |p| shift[perm[p]])
+                .map_err(|p| perm[p]),
+        }
+    }
+
+    /// Computes the weighted blocks M⁻¹ Φ_q,iᵀ and sums S over its structural non-zeros into
+    /// the storage (not factored).
+    fn form(&mut self, rows: &[ConstraintRow], active: &[usize], inv_mass: &[f64]) {
         debug_assert_eq!(active.len(), self.m, "the rows given at construction");
         for (w, &r) in self.weighted.iter_mut().zip(active) {
             for (side, (body, jac)) in blocks(&rows[r]).into_iter().enumerate() {
@@ -289,15 +377,10 @@ impl Schur {
             };
             values[p.pos] += w[0] * jac[0] + w[1] * jac[1] + w[2] * jac[2];
         }
-        if shift > 0.0 {
-            for &d in &self.diagonal {
-                values[d] += if values[d] == 0.0 {
-                    shift
-                } else {
-                    shift * values[d]
-                };
-            }
-        }
+    }
+
+    /// Factors the formed (and shifted) storage in place.
+    fn factor_formed(&mut self) -> Result<(), usize> {
         match &mut self.storage {
             Storage::Dense { a } => cholesky::factor(a, self.m),
             Storage::Skyline {
@@ -311,7 +394,7 @@ impl Schur {
     }
 
     /// Solves S x = b in place (`b` becomes x, caller's numbering) with the factor of the last
-    /// successful [`Schur::factor`].
+    /// successful [`Schur::factor`] (or A x = b after [`Schur::factor_regularised`]).
     pub fn solve(&mut self, b: &mut [f64]) {
         match &mut self.storage {
             Storage::Dense { a } => cholesky::solve(a, self.m, b),
@@ -332,6 +415,74 @@ impl Schur {
             }
         }
     }
+}
+
+/// d + μ²/(d + μ): the pivot of [`Schur::factor_regularised`] (NaN or ≤ 0 where d ≤ −μ).
+fn regularised_pivot(d: f64, mu: f64) -> f64 {
+    let sum = d + mu;
+    if sum > 0.0 {
+        d + mu * mu / sum
+    } else {
+        f64::NAN
+    }
+}
+
+/// Dense Cholesky in place as [`cholesky::factor`] (row-major, lower triangle, reciprocal
+/// 1/L_jj on the diagonal), each pivot regularised as in [`Schur::factor_regularised`].
+fn dense_factor_regularised(a: &mut [f64], m: usize, shift: &[f64]) -> Result<(), usize> {
+    for j in 0..m {
+        let (row_j, below) = a[j * m..].split_at_mut(m);
+        let (lj, tail_j) = row_j.split_at_mut(j);
+        let d = tail_j[0] - lj.iter().map(|x| x * x).sum::<f64>();
+        let d = regularised_pivot(d, shift[j]);
+        if d.is_nan() || d <= 0.0 {
+            return Err(j);
+        }
+        let inv = 1.0 / d.sqrt();
+        tail_j[0] = inv;
+        for row_i in below.chunks_exact_mut(m) {
+            let (li, tail_i) = row_i.split_at_mut(j);
+            let dot: f64 = li.iter().zip(lj.iter()).map(|(x, y)| x * y).sum();
+            tail_i[0] = (tail_i[0] - dot) * inv;
+        }
+    }
+    Ok(())
+}
+
+/// [`skyline_factor`] with each pivot regularised as in [`Schur::factor_regularised`]
+/// (`shift(p)`: μ at position p of the renumbered order).
+fn skyline_factor_regularised(
+    first: &[usize],
+    start: &[usize],
+    values: &mut [f64],
+    shift: impl Fn(usize) -> f64,
+) -> Result<(), usize> {
+    for p in 0..first.len() {
+        let fp = first[p];
+        let (done, rest) = values.split_at_mut(start[p]);
+        let row_p = &mut rest[..p - fp + 1];
+        for j in fp..p {
+            let fj = first[j];
+            let lo = fp.max(fj);
+            let row_j = &done[start[j]..start[j] + j - fj + 1];
+            let dot: f64 = row_p[lo - fp..j - fp]
+                .iter()
+                .zip(&row_j[lo - fj..j - fj])
+                .map(|(a, b)| a * b)
+                .sum();
+            row_p[j - fp] = (row_p[j - fp] - dot) * row_j[j - fj];
+        }
+        let (off, diagonal) = row_p.split_at_mut(p - fp);
+        let d = regularised_pivot(
+            diagonal[0] - off.iter().map(|x| x * x).sum::<f64>(),
+            shift(p),
+        );
+        if d.is_nan() || d <= 0.0 {
+            return Err(p);
+        }
+        diagonal[0] = 1.0 / d.sqrt();
+    }
+    Ok(())
 }
 
 /// Envelope Cholesky in place: row p of `values` (columns `first[p]..=p`) becomes row p of L,

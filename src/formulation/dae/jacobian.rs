@@ -18,8 +18,18 @@
 //!
 //! with H_k = ∂²Φ_k/∂q² ([`RowCurvature`]), ∂c/∂q = ∂γ/∂q − 2α H v − β² Φ_q and
 //! ∂c/∂q̇ = ∂γ/∂q̇ − 2α Φ_q (Φ_t depends on t only). So each column costs one solve with the
-//! Schur complement S = Φ_q M⁻¹ Φ_qᵀ that the right-hand side factors too:
-//! ∂λ = S⁻¹ (Φ_q M⁻¹ r_j − s_j), ∂q̈ = M⁻¹ (r_j − Φ_qᵀ ∂λ).
+//! matrix A = S + diag(Δ) that the right-hand side factors too (S = Φ_q M⁻¹ Φ_qᵀ with its
+//! regularised pivots, module documentation of [`super`]):
+//! ∂λ = A⁻¹ (Φ_q M⁻¹ r_j − s_j), ∂q̈ = M⁻¹ (r_j − Φ_qᵀ ∂λ).
+//!
+//! This is the exact derivative of λ = A⁻¹ b with the shifts Δ_p held fixed. They also move
+//! with q, through the pivots d_p they regularise, at the rate ∂Δ_p/∂d_p = −μ_p²/(d_p + μ_p)²:
+//! below 1e-12 wherever every pivot exceeds 1e-4 D_p (μ_p = 1e-10 D_p, D_p the row's scale),
+//! that is everywhere but within about 1e-4 (relative) of a singular position. There the
+//! term is left out: Radau5's Newton iteration, the Jacobian's only user, converges with it
+//! (`tests/singular_parallelogram.rs` passes the flat positions with Radau5 at rtol down to
+//! 1e-10), and computing it would need one extra solve with the leading block of the factor
+//! per pivot.
 //!
 //! ∂Q/∂y: gravity and constant loads contribute nothing; the contact forces of each clearance
 //! joint in contact exactly in their kinematics and by central differences of the scalar laws
@@ -133,12 +143,14 @@ impl Dae {
                 }
             }
         }
-        // S = Φ_q M⁻¹ Φ_qᵀ, formed and factored by the right-hand side's own solver (its
-        // structure and storage; the RHS factors it afresh at every call, so borrowing it here
-        // leaves nothing behind).
+        // A = S + diag(Δ), S = Φ_q M⁻¹ Φ_qᵀ, formed and factored by the right-hand side's own
+        // solver with the same regularised pivots (its structure and storage; the RHS factors
+        // it afresh at every call, so borrowing it here leaves nothing behind).
         let mut work = self.work.borrow_mut();
         let schur = &mut work.schur;
-        if let Err(pivot) = schur.factor(&ce.rows, &self.active, &self.inv_mass, 0.0) {
+        if let Err(pivot) =
+            schur.factor_regularised(&ce.rows, &self.active, &self.inv_mass, &self.shift)
+        {
             return Err(FormulationError::SingularConstraints {
                 t,
                 constraint: self.constraints.row_name(&self.model, self.active[pivot]),

@@ -21,7 +21,7 @@
 //! branch the motion is on, B and c stay bounded and smooth through the singular position, so
 //! the step size does not collapse there. Joint reactions (outputs only) come from the DAE's
 //! multiplier solve at the projected state (Baumgarte off); at a singular position they are not
-//! unique and that solve fails (docs/formulations.md).
+//! unique, and the DAE's regularised pivots return a finite split of them (docs/formulations.md).
 //!
 //! **State.** y = (z, ż, the DAE's state (q, q̇, stored impact velocities, energy integrals),
 //! the partition flags): z holds the f independent coordinates in the order of q, ż their
