@@ -438,7 +438,11 @@ impl Dae {
         // a right-hand side evaluation, and falls back to a fresh buffer if it ever is).
         match self.work.try_borrow_mut() {
             Ok(mut work) => {
-                for (sc, phi) in work.sin_cos.iter_mut().zip(y[..n].iter().skip(2).step_by(3)) {
+                for (sc, phi) in work
+                    .sin_cos
+                    .iter_mut()
+                    .zip(y[..n].iter().skip(2).step_by(3))
+                {
                     *sc = phi.sin_cos();
                 }
                 self.contacts
