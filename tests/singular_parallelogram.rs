@@ -314,8 +314,57 @@ fn check_dae(fixture: &str, loops: usize) {
                 1000.0 * rtol * scale
             );
             check_reactions(&case, &rec, loops);
+            // The DAE reports the passages (`Dae::singular_passages`: the smallest pivot ratio
+            // of its multiplier solve below 1e-6, i.e. a stage within ~1e-3 of the flat
+            // position), once each, at an accepted step end at most one step (≤ 20 ms here)
+            // after the flat position. Steps of loose tolerances can stride over a passage with
+            // no stage that close (measured with DOP853 at rtol 1e-6: 5 of 9 reported for the
+            // parallelogram, 8 of 10 for the chain; Radau5, three stages per step, at rtol
+            // 1e-8: 4 of 9 and 8 of 10), so all are required from DOP853 at rtol 1e-8 on, and
+            // at least one otherwise: a warning, not a count to rely on.
+            let reported = f.singular_passages();
+            let flat_times: Vec<f64> = flat.iter().map(|&i| rec.t[i]).collect();
+            assert!(
+                if rtol <= 1e-8 && method == Method::Dop853 {
+                    reported.len() == flat.len()
+                } else {
+                    !reported.is_empty() && reported.len() <= flat.len()
+                },
+                "{case}: passages reported at {reported:?}, flat positions at {flat_times:?}"
+            );
+            for &tp in reported {
+                let nearest = flat_times
+                    .iter()
+                    .fold(f64::INFINITY, |m, tf| m.min((tp - tf).abs()));
+                assert!(
+                    nearest < 2e-2,
+                    "{case}: passage reported at t = {tp} s, {nearest} s from the nearest flat position ({flat_times:?})"
+                );
+            }
         }
     }
+}
+
+/// A regular linkage reports no singular passage: the reference four-bar with its clearance
+/// joint (its smallest pivot ratio over two turns, measured 2026-11-25, is 6.1e-2, against the
+/// passage level 1e-6), and the generalised formulation never reports one (it keeps the branch
+/// by construction).
+#[test]
+fn regular_runs_report_no_singular_passage() {
+    use linkdyn::simulation::{Simulation, SimulationOptions};
+    let model = load("models/farahan2016.toml", &[]);
+    let sim = Simulation::new(&model, SimulationOptions::default().revs(2.0).dt(1e-3))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let result = sim.run_to_memory().unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        result.summary.singular_passages.is_empty(),
+        "farahan2016: {:?}",
+        result.summary.singular_passages
+    );
+    let model = load("tests/fixtures/parallelogram.toml", &[]);
+    let mut g = Generalized::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    run(&mut g, Method::Dop853, 1e-8).unwrap_or_else(|e| panic!("{e}"));
+    assert!(g.singular_passages().is_empty());
 }
 
 /// Joint reactions through the passages. The sum of the ground reactions is unique at every
@@ -411,4 +460,71 @@ fn dae_passes_the_flat_positions_of_a_parallelogram() {
 #[test]
 fn dae_passes_the_flat_positions_of_a_chain_of_three_parallelograms() {
     check_dae("tests/fixtures/parallelogram_chain3.toml", 3);
+}
+
+/// `linkdyn run` says when the DAE passed singular positions, how many, and what to do: with
+/// the models' default Baumgarte factors at rtol 1e-6 this run ends on the crossed branch
+/// (docs/formulations.md), and the warning is all that tells the user.
+#[test]
+fn the_cli_warns_when_the_dae_passed_singular_positions() {
+    let dir = std::env::temp_dir().join(format!("linkdyn-singular-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let out = dir.join("run.csv");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_linkdyn"))
+        .args([
+            "run",
+            "tests/fixtures/parallelogram.toml",
+            "--t-end",
+            "1.0",
+            "--rtol",
+            "1e-6",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    // Flat positions of the exact motion before t = 1 s: 3 (from `reference`).
+    let ts: Vec<f64> = (0..=1000).map(|k| 1e-3 * k as f64).collect();
+    let flats = passages(&reference(1, &ts, 1e-5));
+    let prefix = "warning: the DAE passed ";
+    let count: usize = stderr
+        .split_once(prefix)
+        .and_then(|(_, rest)| rest.split_once(' '))
+        .and_then(|(n, _)| n.parse().ok())
+        .unwrap_or_else(|| panic!("no {prefix:?} in: {stderr}"));
+    // Steps at rtol 1e-6 may stride over a passage without noticing it (see `check_dae`).
+    assert!(
+        (1..=flats).contains(&count),
+        "{count} of {flats} passages reported: {stderr}"
+    );
+    assert!(
+        stderr.contains("singular position(s) of the linkage (the first at t = "),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("confirm with --formulation generalized"),
+        "{stderr}"
+    );
+    // The generalised formulation needs no such warning.
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_linkdyn"))
+        .args([
+            "run",
+            "tests/fixtures/parallelogram.toml",
+            "--t-end",
+            "1.0",
+            "--rtol",
+            "1e-6",
+            "--formulation",
+            "generalized",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("warning: the DAE passed"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -111,6 +111,13 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
             );
         }
     }
+    if let Some(first) = summary.singular_passages.first() {
+        eprintln!(
+            "warning: the DAE passed {} singular position(s) of the linkage (the first at t = {:.6} s); it keeps the assembly branch through them only where the Baumgarte terms damp the constraint drift between passages (alpha, beta of about 10/T, T the time between passages): confirm with --formulation generalized (docs/formulations.md, \"The DAE at singular positions\")",
+            summary.singular_passages.len(),
+            first
+        );
+    }
     Ok(())
 }
 

@@ -109,6 +109,10 @@ struct Work {
     last_t: f64,
     last_y: Vec<f64>,
     last_acc: Vec<f64>,
+    /// Smallest [`Schur::min_pivot_ratio`] of the right-hand sides since the last accepted
+    /// step (stages of rejected attempts included): how close the step came to a singular
+    /// position.
+    min_pivot_ratio: f64,
 }
 
 /// The absolute-coordinate DAE of a model.
@@ -137,6 +141,11 @@ pub struct Dae {
     length_scale: f64,
     /// Largest |Φ| over the accepted step ends so far (m or rad).
     max_step_violation: f64,
+    /// Times (s) at which accepted steps came within [`SINGULAR_PASSAGE_RATIO`] of a singular
+    /// position, one per passage (see [`Dae::singular_passages`]).
+    singular_passages: Vec<f64>,
+    /// Whether the last accepted step was still near the singular position of the last passage.
+    near_singular: bool,
     work: RefCell<Work>,
 }
 
@@ -191,6 +200,8 @@ impl Dae {
             initial_energy: 0.0,
             length_scale: length_scale(model, &assembly.q),
             max_step_violation: 0.0,
+            singular_passages: Vec::new(),
+            near_singular: false,
             assembly,
             work: RefCell::new(Work {
                 sin_cos: vec![(0.0, 1.0); nb],
@@ -202,6 +213,7 @@ impl Dae {
                 last_t: f64::NAN,
                 last_y: Vec::new(),
                 last_acc: vec![0.0; 3 * nb],
+                min_pivot_ratio: 1.0,
             }),
             constraints,
         };
@@ -254,6 +266,16 @@ impl Dae {
     /// Baumgarte factors in use.
     pub fn baumgarte(&self) -> Baumgarte {
         self.baumgarte
+    }
+
+    /// Times (s) of the accepted steps at which the run passed a singular position of the
+    /// linkage (the constraint Jacobian nearly losing rank: [`SINGULAR_PASSAGE_RATIO`]), one per
+    /// passage. The DAE goes through such positions with regularised pivots, but keeps the
+    /// assembly branch only where the Baumgarte terms damp the drift between passages
+    /// (docs/formulations.md, "The DAE at singular positions"): a run that lists passages is
+    /// worth confirming with the generalised formulation.
+    pub fn singular_passages(&self) -> &[f64] {
+        &self.singular_passages
     }
 
     /// Length scale L of the linkage (m): the largest distance between two of its points at
@@ -330,6 +352,7 @@ impl Dae {
                 constraint: self.constraints.row_name(&self.model, self.active[k]),
             });
         }
+        work.min_pivot_ratio = work.min_pivot_ratio.min(work.schur.min_pivot_ratio());
         // The right-hand side b = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), with W = M⁻¹ Φ_qᵀ by row
         // blocks.
         for (i, &ri) in self.active.iter().enumerate() {
@@ -600,6 +623,10 @@ impl Outputs for Dae {
     fn step_constraint_violation(&self) -> f64 {
         self.max_step_violation
     }
+
+    fn singular_passages(&self) -> Vec<f64> {
+        self.singular_passages.clone()
+    }
 }
 
 /// The Schur complement of the active rows, its structure read from the rows at the assembled
@@ -647,6 +674,18 @@ fn shift_at(
 /// measured on the chain of three); and a pivot d moves by a relative (μD/d)², below half an
 /// ulp for d ≳ 1e-2 D.
 pub const PIVOT_REGULARISATION: f64 = 1e-10;
+
+/// A right-hand side whose smallest pivot ratio ([`Schur::min_pivot_ratio`]: the squared sine
+/// of the angle between a constraint row and the span of the others) falls below this is "at a
+/// singular position" for [`Dae::singular_passages`]: within ~1e-3 (relative) of one, where
+/// the ratio falls like s². The shipped models stay well above it (smallest ratio over two
+/// turns or 3 s, measured 2026-11-25: 4.1e-4 quick_return, 7.6e-3 watt_sixbar, ≥ 2e-2 the
+/// others). Steps that stride over a passage with no stage that close miss it (loose
+/// tolerances, few stages per step): a report of passages is a warning, not a count.
+pub const SINGULAR_PASSAGE_RATIO: f64 = 1e-6;
+
+/// A passage ends when an accepted step's smallest pivot ratio is back above this.
+pub const SINGULAR_PASSAGE_EXIT_RATIO: f64 = 1e-4;
 
 /// f −= Φ_qᵀ x over the active rows.
 fn subtract_constraint_forces(
@@ -817,6 +856,15 @@ impl Formulation for Dae {
     ) -> Result<(), FormulationError> {
         let n = self.n_coordinates();
         let work = self.work.get_mut();
+        // One passage per dip of the pivot ratio below the entry level; the hysteresis up to the
+        // exit level keeps one passage from being counted twice.
+        let ratio = std::mem::replace(&mut work.min_pivot_ratio, 1.0);
+        if ratio < SINGULAR_PASSAGE_RATIO && !self.near_singular {
+            self.singular_passages.push(t);
+            self.near_singular = true;
+        } else if ratio > SINGULAR_PASSAGE_EXIT_RATIO {
+            self.near_singular = false;
+        }
         for (i, sc) in work.sin_cos.iter_mut().enumerate() {
             *sc = y[3 * i + 2].sin_cos();
         }

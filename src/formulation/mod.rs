@@ -167,6 +167,14 @@ pub trait Outputs {
     fn step_constraint_violation(&self) -> f64 {
         0.0
     }
+
+    /// Times (s) at which the run passed a singular position of the linkage where the
+    /// formulation cannot vouch for the assembly branch ([`Dae::singular_passages`]). Default:
+    /// none (the reduced formulation has none; the generalised one keeps its branch by
+    /// construction).
+    fn singular_passages(&self) -> Vec<f64> {
+        Vec::new()
+    }
 }
 
 /// Errors raised while building or evaluating a formulation.

@@ -96,6 +96,9 @@ pub struct Schur {
     weighted: Vec<[[f64; 3]; 2]>,
     /// Diagonal position of each row (caller's numbering), for the shift of [`Schur::factor`].
     diagonal: Vec<usize>,
+    /// Smallest raw pivot of the last [`Schur::factor_regularised`] over its row's diagonal
+    /// entry (1 for a row independent of the earlier ones, → 0 as it becomes dependent).
+    min_pivot_ratio: f64,
 }
 
 /// An orientation-free scale of S's diagonal for the rows `rows[active[k]]`: the part of
@@ -254,6 +257,7 @@ impl Schur {
             couplings,
             weighted: vec![[[0.0; 3]; 2]; m],
             diagonal,
+            min_pivot_ratio: 1.0,
         }
     }
 
@@ -333,7 +337,7 @@ impl Schur {
         shift: &[f64],
     ) -> Result<(), usize> {
         self.form(rows, active, inv_mass);
-        match &mut self.storage {
+        let ratio = match &mut self.storage {
             Storage::Dense { a } => dense_factor_regularised(a, self.m, shift),
             Storage::Skyline {
                 perm,
@@ -343,7 +347,18 @@ impl Schur {
                 ..
             } => skyline_factor_regularised(first, start, values, |p| shift[perm[p]])
                 .map_err(|p| perm[p]),
-        }
+        }?;
+        self.min_pivot_ratio = ratio;
+        Ok(())
+    }
+
+    /// The smallest ratio of a raw (unregularised) pivot to its row's diagonal entry in the
+    /// last [`Schur::factor_regularised`]: the squared sine of the angle between that row of
+    /// Φ_q (in the M⁻¹ metric) and the span of the rows before it. O(1) at regular positions,
+    /// falling like s² at a distance s from a position where Φ_q loses rank. 1 before any
+    /// regularised factorisation.
+    pub fn min_pivot_ratio(&self) -> f64 {
+        self.min_pivot_ratio
     }
 
     /// Computes the weighted blocks M⁻¹ Φ_q,iᵀ and sums S over its structural non-zeros into
@@ -429,11 +444,14 @@ fn regularised_pivot(d: f64, mu: f64) -> f64 {
 
 /// Dense Cholesky in place as [`cholesky::factor`] (row-major, lower triangle, reciprocal
 /// 1/L_jj on the diagonal), each pivot regularised as in [`Schur::factor_regularised`].
-fn dense_factor_regularised(a: &mut [f64], m: usize, shift: &[f64]) -> Result<(), usize> {
+/// `Ok`: the smallest raw pivot over its diagonal entry ([`Schur::min_pivot_ratio`]).
+fn dense_factor_regularised(a: &mut [f64], m: usize, shift: &[f64]) -> Result<f64, usize> {
+    let mut min_ratio = 1.0_f64;
     for j in 0..m {
         let (row_j, below) = a[j * m..].split_at_mut(m);
         let (lj, tail_j) = row_j.split_at_mut(j);
         let d = tail_j[0] - lj.iter().map(|x| x * x).sum::<f64>();
+        min_ratio = min_ratio.min(d / tail_j[0]);
         let d = regularised_pivot(d, shift[j]);
         if d.is_nan() || d <= 0.0 {
             return Err(j);
@@ -446,7 +464,7 @@ fn dense_factor_regularised(a: &mut [f64], m: usize, shift: &[f64]) -> Result<()
             tail_i[0] = (tail_i[0] - dot) * inv;
         }
     }
-    Ok(())
+    Ok(min_ratio)
 }
 
 /// [`skyline_factor`] with each pivot regularised as in [`Schur::factor_regularised`]
@@ -456,7 +474,8 @@ fn skyline_factor_regularised(
     start: &[usize],
     values: &mut [f64],
     shift: impl Fn(usize) -> f64,
-) -> Result<(), usize> {
+) -> Result<f64, usize> {
+    let mut min_ratio = 1.0_f64;
     for p in 0..first.len() {
         let fp = first[p];
         let (done, rest) = values.split_at_mut(start[p]);
@@ -473,16 +492,15 @@ fn skyline_factor_regularised(
             row_p[j - fp] = (row_p[j - fp] - dot) * row_j[j - fj];
         }
         let (off, diagonal) = row_p.split_at_mut(p - fp);
-        let d = regularised_pivot(
-            diagonal[0] - off.iter().map(|x| x * x).sum::<f64>(),
-            shift(p),
-        );
+        let raw = diagonal[0] - off.iter().map(|x| x * x).sum::<f64>();
+        min_ratio = min_ratio.min(raw / diagonal[0]);
+        let d = regularised_pivot(raw, shift(p));
         if d.is_nan() || d <= 0.0 {
             return Err(p);
         }
         diagonal[0] = 1.0 / d.sqrt();
     }
-    Ok(())
+    Ok(min_ratio)
 }
 
 /// Envelope Cholesky in place: row p of `values` (columns `first[p]..=p`) becomes row p of L,

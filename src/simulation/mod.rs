@@ -220,7 +220,7 @@ impl Simulation {
             summary = summary.driver(d.initial_angle, d.speed);
         }
         let mut observed = Observed::new(summary, sink, self.names.len());
-        let (stats, step_violation) = match &self.formulation {
+        let (stats, step_violation, singular_passages) = match &self.formulation {
             Built::Dae(f) => self.integrate(&mut (**f).clone(), &mut observed)?,
             Built::Reduced(f) => self.integrate(&mut (**f).clone(), &mut observed)?,
             Built::Generalized(f) => self.integrate(&mut (**f).clone(), &mut observed)?,
@@ -235,6 +235,7 @@ impl Simulation {
         );
         // The samples' |Φ| and every accepted step end's: the maximum over the whole run.
         summary.max_constraint_violation = summary.max_constraint_violation.max(step_violation);
+        summary.singular_passages = singular_passages;
         Ok(summary)
     }
 
@@ -256,7 +257,7 @@ impl Simulation {
         &self,
         f: &mut F,
         observed: &mut Observed<'_, S>,
-    ) -> Result<(solve::SolverStats, f64)> {
+    ) -> Result<(solve::SolverStats, f64, Vec<f64>)> {
         let y0 = f.initial_state();
         let t0 = f.t0();
         let stats = solve::integrate(
@@ -268,7 +269,7 @@ impl Simulation {
             &self.options.solver,
             observed,
         )?;
-        Ok((stats, f.step_constraint_violation()))
+        Ok((stats, f.step_constraint_violation(), f.singular_passages()))
     }
 }
 

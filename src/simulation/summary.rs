@@ -32,6 +32,11 @@ pub struct RunSummary {
     /// [`violation_limit`](crate::formulation::dae::violation_limit) at a step end stops with
     /// an error instead.
     pub max_constraint_violation: f64,
+    /// Times (s) at which a DAE run passed a singular position of the linkage, one per passage
+    /// ([`Dae::singular_passages`](crate::formulation::Dae::singular_passages)): the DAE keeps
+    /// the assembly branch there only with adequate Baumgarte factors; empty for the other
+    /// formulations.
+    pub singular_passages: Vec<f64>,
     /// Per clearance joint, in model order: impact count and log, separations, first impact
     /// times, true largest penetration and peak normal force, permanent contact.
     pub clearance_joints: Vec<ClearanceSummary>,
@@ -351,6 +356,7 @@ impl SummaryBuilder {
             sink_time_s,
             samples: self.samples,
             max_constraint_violation: self.max_constraint_violation,
+            singular_passages: Vec::new(),
             clearance_joints: self
                 .joints
                 .iter()
