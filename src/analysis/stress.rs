@@ -3,7 +3,7 @@
 //! on every formulation the model supports × every method of [`Method::ALL`] × a list of
 //! tolerances, with a wall-clock and a step budget per run and a [`Verdict`] per cell.
 //!
-//! A case is a list of `--set` overrides applied by [`model::load`](crate::model::load); a case
+//! A case is a list of `--set` overrides applied by [`model::load`]; a case
 //! the model validation refuses is a correct outcome ([`Verdict::Refused`], with the message).
 //! Every run goes through [`Simulation`] with `max_wall` and `max_steps` set, so no cell can
 //! hang, and every error comes back as data: nothing here panics on a case.

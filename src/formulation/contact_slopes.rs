@@ -25,7 +25,7 @@
 //!
 //! The stored impact velocity enters only through the law: ∂F_N/∂δ̇⁽⁻⁾ where one is stored
 //! (> 0); otherwise F_N uses the current δ̇ as impact velocity
-//! ([`impact_velocity`](crate::contact::impact_velocity)), so δ̇ enters the law twice.
+//! ([`impact_velocity`]), so δ̇ enters the law twice.
 
 use crate::contact::{ClearanceJoint, ContactKinematics, friction_force, impact_velocity};
 use crate::mechanics::planar::{dot, perp};

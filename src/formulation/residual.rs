@@ -2,14 +2,14 @@
 //! `solve::ida`).
 //!
 //! A formulation that has one returns it from
-//! [`Formulation::residual_form`](super::Formulation::residual_form): the DAE does
+//! [`Formulation::residual_form`]: the DAE does
 //! ([`DaeResidual`](super::residual_dae::DaeResidual), with the Lagrange multipliers λ as
 //! algebraic unknowns). Every other formulation is integrated as the implicit ODE
 //! F = Ẏ − f(t, Y) ([`OdeResidual`]).
 //!
 //! # Layout of the unknowns
 //! The formulation's own state y (n components, the layout of
-//! [`Formulation::n_states`](super::Formulation::n_states)) is y = (y_s, e): the states of the
+//! [`Formulation::n_states`]) is y = (y_s, e): the states of the
 //! equations, then n_Q bookkeeping integrals e ([`ResidualForm::n_quadratures`], for the DAE
 //! the three energy integrals of `--energy`). The unknowns of F are Y = (y_s, z): the states
 //! y_s, then the algebraic unknowns z (for the DAE: λ of the active constraint rows). The

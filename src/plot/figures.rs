@@ -297,7 +297,7 @@ pub fn bifurcation(table: &Table) -> Result<Figure, PlotError> {
 }
 
 /// An amplitude spectrum (`frequency_hz,amplitude`), amplitude on a log scale if `log`; with
-/// `driving_hz`, dashed lines at its multiples (the first [`MAX_MARKS`] within the range).
+/// `driving_hz`, dashed lines at its multiples (the first `MAX_MARKS` within the range).
 pub fn spectrum(table: &Table, log: bool, driving_hz: Option<f64>) -> Result<Figure, PlotError> {
     let f = table.column("frequency_hz")?;
     let a = table.column("amplitude")?;

@@ -8,7 +8,7 @@
 //!
 //! **Newton.** Simplified Newton iterations with the Jacobian J at (t_n, y_n) and the
 //! transformation W = (T⁻¹ ⊗ I) Z that splits the 3n×3n system into one real n×n system with
-//! γ̂/h·I − J and one complex n×n system with (α̂ + iβ̂)/h·I − J ([`tableau`], [`linalg`]).
+//! γ̂/h·I − J and one complex n×n system with (α̂ + iβ̂)/h·I − J (modules `tableau`, `linalg`).
 //! Starting values come from the collocation polynomial of the previous step (zero on the
 //! first step and after a restart). The iteration stops when κ·‖ΔW‖ ≤ `newton_tol`, with
 //! κ = θ/(1 − θ) and the contraction rate θ = ‖ΔW_k‖/‖ΔW_{k−1}‖ (geometric mean of the last
@@ -33,10 +33,10 @@
 //! **Dense output** (order 3, valid on the last step): the collocation polynomial through
 //! (t_n, y_n), (t_n + c_i h, y_n + Z_i), written in Newton form around t_{n+1}.
 //!
-//! **Failures.** A recoverable RHS failure ([`FormulationError::is_recoverable`], a trial stage
+//! **Failures.** A recoverable RHS failure ([`FormulationError::is_recoverable`](crate::formulation::FormulationError::is_recoverable), a trial stage
 //! that overshoots into a contact) rejects the attempt and retries with h/4; a singular
 //! iteration matrix or a failed Newton iteration retries with h/2. The run stops with
-//! [`SolveError::StepTooSmall`] (or the last recoverable error) when h falls below
+//! [`SolveError::StepTooSmall`](crate::solve::SolveError::StepTooSmall) (or the last recoverable error) when h falls below
 //! 16 ulps of t.
 //!
 //! **Tolerances** (see [`Radau5Settings::hairer_tolerances`]): by default the code
