@@ -9,17 +9,36 @@
 /// [`solve`] multiplies instead of dividing. Returns the index of the first pivot that is not
 /// positive (relative to the diagonal), i.e. where the matrix is singular to working precision.
 pub fn factor(a: &mut [f64], m: usize) -> Result<(), usize> {
+    factor_with(a, m, |_, raw, diagonal| checked_pivot(raw, diagonal))
+}
+
+/// The pivot rule of [`factor`]: the raw pivot d = a_jj − Σ_k L_jk² itself, or `None` where
+/// it is not positive relative to the diagonal entry a_jj (NaN, or d ≤ 1e-13 |a_jj|).
+pub fn checked_pivot(raw: f64, diagonal: f64) -> Option<f64> {
+    if raw.is_nan() || raw <= 1e-13 * diagonal.abs().max(f64::MIN_POSITIVE) {
+        None
+    } else {
+        Some(raw)
+    }
+}
+
+/// [`factor`] with the pivot rule given: `pivot(j, d, a_jj)` returns the pivot to use for
+/// the raw pivot d of row j (diagonal entry a_jj), or `None` to stop with `Err(j)`. The
+/// multiplier solve of the DAE regularises its pivots this way (`schur.rs`).
+pub fn factor_with(
+    a: &mut [f64],
+    m: usize,
+    mut pivot: impl FnMut(usize, f64, f64) -> Option<f64>,
+) -> Result<(), usize> {
     debug_assert!(a.len() >= m * m, "matrix buffer holds m × m entries");
     for j in 0..m {
-        let (done, rest) = a.split_at_mut(j * m);
-        let (row_j, below) = rest.split_at_mut(m);
-        let _ = done;
+        let (row_j, below) = a[j * m..].split_at_mut(m);
         let (lj, tail_j) = row_j.split_at_mut(j);
         let diagonal = tail_j[0];
-        let d = diagonal - lj.iter().map(|x| x * x).sum::<f64>();
-        if d.is_nan() || d <= 1e-13 * diagonal.abs().max(f64::MIN_POSITIVE) {
+        let raw = diagonal - lj.iter().map(|x| x * x).sum::<f64>();
+        let Some(d) = pivot(j, raw, diagonal) else {
             return Err(j);
-        }
+        };
         let inv = 1.0 / d.sqrt();
         tail_j[0] = inv;
         for row_i in below.chunks_exact_mut(m) {

@@ -337,19 +337,24 @@ impl Schur {
         shift: &[f64],
     ) -> Result<(), usize> {
         self.form(rows, active, inv_mass);
-        let ratio = match &mut self.storage {
-            Storage::Dense { a } => dense_factor_regularised(a, self.m, shift),
+        let mut min_ratio = 1.0_f64;
+        let factored = match &mut self.storage {
+            Storage::Dense { a } => cholesky::factor_with(a, self.m, |j, raw, diagonal| {
+                regularised(&mut min_ratio, raw, diagonal, shift[j])
+            }),
             Storage::Skyline {
                 perm,
                 first,
                 start,
                 values,
                 ..
-            } => skyline_factor_regularised(first, start, values, |p| shift[perm[p]])
-                .map_err(|p| perm[p]),
-        }?;
-        self.min_pivot_ratio = ratio;
-        Ok(())
+            } => skyline_factor_with(first, start, values, |p, raw, diagonal| {
+                regularised(&mut min_ratio, raw, diagonal, shift[perm[p]])
+            })
+            .map_err(|p| perm[p]),
+        };
+        self.min_pivot_ratio = min_ratio;
+        factored
     }
 
     /// The smallest ratio of a raw (unregularised) pivot to its row's diagonal entry in the
@@ -442,72 +447,40 @@ fn regularised_pivot(d: f64, mu: f64) -> f64 {
     }
 }
 
-/// Dense Cholesky in place as [`cholesky::factor`] (row-major, lower triangle, reciprocal
-/// 1/L_jj on the diagonal), each pivot regularised as in [`Schur::factor_regularised`].
-/// `Ok`: the smallest raw pivot over its diagonal entry ([`Schur::min_pivot_ratio`]).
-fn dense_factor_regularised(a: &mut [f64], m: usize, shift: &[f64]) -> Result<f64, usize> {
-    let mut min_ratio = 1.0_f64;
-    for j in 0..m {
-        let (row_j, below) = a[j * m..].split_at_mut(m);
-        let (lj, tail_j) = row_j.split_at_mut(j);
-        let d = tail_j[0] - lj.iter().map(|x| x * x).sum::<f64>();
-        min_ratio = min_ratio.min(d / tail_j[0]);
-        let d = regularised_pivot(d, shift[j]);
-        if d.is_nan() || d <= 0.0 {
-            return Err(j);
-        }
-        let inv = 1.0 / d.sqrt();
-        tail_j[0] = inv;
-        for row_i in below.chunks_exact_mut(m) {
-            let (li, tail_i) = row_i.split_at_mut(j);
-            let dot: f64 = li.iter().zip(lj.iter()).map(|(x, y)| x * y).sum();
-            tail_i[0] = (tail_i[0] - dot) * inv;
-        }
+/// The pivot rule of [`Schur::factor_regularised`] for [`cholesky::factor_with`] and
+/// [`skyline_factor_with`]: the raw pivot d of a row (diagonal entry s, shift μ) becomes
+/// [`regularised_pivot`]`(d, μ)`, `None` where that is not positive; `min_ratio` keeps the
+/// smallest d/s ([`Schur::min_pivot_ratio`]).
+fn regularised(min_ratio: &mut f64, raw: f64, diagonal: f64, shift: f64) -> Option<f64> {
+    *min_ratio = min_ratio.min(raw / diagonal);
+    let d = regularised_pivot(raw, shift);
+    if d.is_nan() || d <= 0.0 {
+        None
+    } else {
+        Some(d)
     }
-    Ok(min_ratio)
-}
-
-/// [`skyline_factor`] with each pivot regularised as in [`Schur::factor_regularised`]
-/// (`shift(p)`: μ at position p of the renumbered order).
-fn skyline_factor_regularised(
-    first: &[usize],
-    start: &[usize],
-    values: &mut [f64],
-    shift: impl Fn(usize) -> f64,
-) -> Result<f64, usize> {
-    let mut min_ratio = 1.0_f64;
-    for p in 0..first.len() {
-        let fp = first[p];
-        let (done, rest) = values.split_at_mut(start[p]);
-        let row_p = &mut rest[..p - fp + 1];
-        for j in fp..p {
-            let fj = first[j];
-            let lo = fp.max(fj);
-            let row_j = &done[start[j]..start[j] + j - fj + 1];
-            let dot: f64 = row_p[lo - fp..j - fp]
-                .iter()
-                .zip(&row_j[lo - fj..j - fj])
-                .map(|(a, b)| a * b)
-                .sum();
-            row_p[j - fp] = (row_p[j - fp] - dot) * row_j[j - fj];
-        }
-        let (off, diagonal) = row_p.split_at_mut(p - fp);
-        let raw = diagonal[0] - off.iter().map(|x| x * x).sum::<f64>();
-        min_ratio = min_ratio.min(raw / diagonal[0]);
-        let d = regularised_pivot(raw, shift(p));
-        if d.is_nan() || d <= 0.0 {
-            return Err(p);
-        }
-        diagonal[0] = 1.0 / d.sqrt();
-    }
-    Ok(min_ratio)
 }
 
 /// Envelope Cholesky in place: row p of `values` (columns `first[p]..=p`) becomes row p of L,
 /// with the reciprocal 1/L_pp on the diagonal as in [`cholesky::factor`]. Row-oriented
 /// (ref. 2): L_pj = (S_pj − Σ_{k ≥ max(f_p, f_j)} L_pk L_jk) / L_jj, every sum a dot product of
-/// two contiguous slices. `Err(p)`: the first pivot that is not positive.
+/// two contiguous slices. `Err(p)`: the first pivot that is not positive
+/// ([`cholesky::checked_pivot`]).
 fn skyline_factor(first: &[usize], start: &[usize], values: &mut [f64]) -> Result<(), usize> {
+    skyline_factor_with(first, start, values, |_, raw, diagonal| {
+        cholesky::checked_pivot(raw, diagonal)
+    })
+}
+
+/// [`skyline_factor`] with the pivot rule given, as [`cholesky::factor_with`]:
+/// `pivot(p, d, S_pp)` returns the pivot to use for the raw pivot d at position p of the
+/// renumbered order, or `None` to stop with `Err(p)`.
+fn skyline_factor_with(
+    first: &[usize],
+    start: &[usize],
+    values: &mut [f64],
+    mut pivot: impl FnMut(usize, f64, f64) -> Option<f64>,
+) -> Result<(), usize> {
     for p in 0..first.len() {
         let fp = first[p];
         let (done, rest) = values.split_at_mut(start[p]);
@@ -525,10 +498,10 @@ fn skyline_factor(first: &[usize], start: &[usize], values: &mut [f64]) -> Resul
         }
         let (off, diagonal) = row_p.split_at_mut(p - fp);
         let s = diagonal[0];
-        let d = s - off.iter().map(|x| x * x).sum::<f64>();
-        if d.is_nan() || d <= 1e-13 * s.abs().max(f64::MIN_POSITIVE) {
+        let raw = s - off.iter().map(|x| x * x).sum::<f64>();
+        let Some(d) = pivot(p, raw, s) else {
             return Err(p);
-        }
+        };
         diagonal[0] = 1.0 / d.sqrt();
     }
     Ok(())
