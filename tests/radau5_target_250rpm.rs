@@ -9,36 +9,13 @@
 
 mod common;
 
-use common::load;
-use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs};
-use linkdyn::solve::{Method, Recorder, SolverOptions, SolverStats, integrate};
+use common::{load, run_dae};
+use linkdyn::solve::{Method, Recorder};
 
 /// 2 turns at 250 rpm (s).
 const T_END: f64 = 2.0 * 60.0 / 250.0;
-
-fn run<F: Formulation + Outputs + Clone>(
-    f: &F,
-    method: Method,
-    rtol: f64,
-) -> (Recorder, SolverStats) {
-    let mut f = f.clone();
-    let opts = match SolverOptions::default()
-        .method(method)
-        .rtol(rtol)
-        .atol(rtol * 1e-3)
-        .build()
-    {
-        Ok(o) => o,
-        Err(e) => panic!("{e}"),
-    };
-    let y0 = f.initial_state();
-    let mut rec = Recorder::new(&f);
-    // The work-precision grid: 4000 samples over the run.
-    match integrate(&mut f, 0.0, &y0, T_END, T_END / 4000.0, &opts, &mut rec) {
-        Ok(stats) => (rec, stats),
-        Err(e) => panic!("{method} at rtol {rtol:e}: {e}"),
-    }
-}
+/// The work-precision grid: 4000 samples over the run (s).
+const DT: f64 = T_END / 4000.0;
 
 /// Largest |Δφ| of the coupler and the rocker over the common samples (rad).
 fn angle_error(a: &Recorder, b: &Recorder) -> f64 {
@@ -58,13 +35,9 @@ fn angle_error(a: &Recorder, b: &Recorder) -> f64 {
 #[test]
 fn dae_radau5_reaches_1e_8_rad_in_fewer_than_35k_rhs() {
     let model = load("models/farahan2016.toml", &[]);
-    let dae = match Dae::new(&model, &DaeOptions::default()) {
-        Ok(d) => d,
-        Err(e) => panic!("{e}"),
-    };
     // DOP853 at rtol 1e-12: 1.7e-11 rad from DOPRI5 at the same tolerance (docs/numerics.md).
-    let (reference, _) = run(&dae, Method::Dop853, 1e-12);
-    let (rec, stats) = run(&dae, Method::Radau5, 3e-9);
+    let (reference, _) = run_dae(&model, T_END, DT, Method::Dop853, 1e-12, 1e-12 * 1e-3);
+    let (rec, stats) = run_dae(&model, T_END, DT, Method::Radau5, 3e-9, 3e-9 * 1e-3);
     assert_eq!(
         rec.events.len(),
         reference.events.len(),
