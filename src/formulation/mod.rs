@@ -16,6 +16,8 @@ pub mod reduced_lagrangian;
 pub mod residual;
 pub mod residual_dae;
 pub mod schur;
+#[cfg(test)]
+mod test_rng;
 
 pub use dae::{Dae, DaeOptions};
 pub use generalized::Generalized;

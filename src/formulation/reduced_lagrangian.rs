@@ -1237,20 +1237,7 @@ mod tests {
         }
     }
 
-    /// Deterministic pseudo-random numbers in [0, 1) (64-bit LCG, Knuth's constants).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.next()
-        }
-    }
+    use crate::formulation::test_rng::Lcg;
 
     /// A random state at a random time: the loop closed at eccentricity |e| = c + `delta` in a
     /// random direction, with random angular velocities (±40 rad/s, i.e. up to ~1.5× the

@@ -155,18 +155,7 @@ fn hull(points: &[[f64; 2]], order: &[usize]) -> Vec<usize> {
 mod tests {
     use super::*;
 
-    /// A small linear congruential generator: the same cases on every run.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::formulation::test_rng::Lcg;
 
     #[test]
     fn equals_the_all_pairs_maximum_bit_for_bit() {

@@ -2,22 +2,7 @@
 //! constraints, and the reverse Cuthill–McKee order on a chain.
 
 use super::*;
-
-/// A small linear congruential generator: the same cases on every run, no dependency.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn below(&mut self, n: usize) -> usize {
-        ((self.next() * n as f64) as usize).min(n - 1)
-    }
-}
+use crate::formulation::test_rng::Lcg;
 
 /// Rows of `n_bodies` bodies joined like a linkage: each "joint" gives two rows between two
 /// bodies (or a body and ground), with random Jacobian blocks; bodies are shuffled so that the
