@@ -411,9 +411,11 @@ fn same_model_and_settings_give_identical_numbers() {
 
 #[test]
 fn a_solver_failure_says_when_and_exits_with_code_3_leaving_no_files() {
-    // A crank of 0.4 m in the reference four-bar cannot turn fully: at θ2 = π the coupler and
-    // rocker are stretched into a line (0.4 + 0.8 = 0.75 + 0.45) and the driven motion cannot
-    // go on. The solver must stop there with a message, not hang or write half a file.
+    // A crank of 0.45 m in the reference four-bar cannot turn fully: coupler and rocker are
+    // stretched into a line (0.75 + 0.45 = 1.2 m) when the crank tip is 1.2 m from O4, at
+    // θ2 = 2.550 rad (t = 0.0974 s at 250 rpm), and no motion can go on. The solver must stop
+    // there with a message, not hang or write half a file. (The 0.4 m crank reaches a change
+    // point instead (crank + ground = coupler + rocker), which the DAE passes: tests/no_progress.rs.)
     let dir = std::env::temp_dir().join(format!("linkdyn-lock-{}", std::process::id()));
     let _ = std::fs::create_dir_all(&dir);
     let out = dir.join("lock.csv");
@@ -421,22 +423,22 @@ fn a_solver_failure_says_when_and_exits_with_code_3_leaving_no_files() {
         "run",
         "models/fourbar_ideal.toml",
         "--set",
-        "bodies.crank.points.A=[0.2,0.0]",
+        "bodies.crank.points.A=[0.225,0.0]",
         "--set",
-        "bodies.crank.points.O2=[-0.2,0.0]",
+        "bodies.crank.points.O2=[-0.225,0.0]",
         "--set",
-        "bodies.crank.initial.x=0.2",
+        "bodies.crank.initial.x=0.225",
         "--revs",
         "1",
         "--out",
         &out.display().to_string(),
     ]);
     assert_eq!(code, 3, "{stderr}");
-    // The toggle is at θ2 = π, i.e. t = 0.12 s at 250 rpm; the step size collapses there and
-    // the no-progress rule stops the run within 1000 attempts.
+    // The step size collapses at the lock and the no-progress rule stops the run within 1000
+    // attempts.
     assert!(stderr.starts_with("error: no progress at t = "), "{stderr}");
     assert!(stderr.contains("toggle"), "{stderr}");
-    assert!(stderr.contains("at t = 0.1199"), "{stderr}");
+    assert!(stderr.contains("at t = 0.0973"), "{stderr}");
     assert!(
         !out.exists() && !dir.join("lock.json").exists(),
         "no partial result files"

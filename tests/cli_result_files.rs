@@ -154,16 +154,16 @@ fn a_failed_run_leaves_the_earlier_pair_untouched_and_no_temporary_files() {
     let csv = dir.join("r.csv");
     short_run(&csv);
     let (before_csv, before_json) = (read(&csv), read(&dir.join("r.json")));
-    // The crank of 0.4 m locks the four-bar at θ2 = π (see tests/bad_models.rs): exit 3.
+    // The crank of 0.45 m locks the four-bar at t = 0.097 s (see tests/bad_models.rs): exit 3.
     let (code, _, stderr) = linkdyn(&[
         "run",
         "models/fourbar_ideal.toml",
         "--set",
-        "bodies.crank.points.A=[0.2,0.0]",
+        "bodies.crank.points.A=[0.225,0.0]",
         "--set",
-        "bodies.crank.points.O2=[-0.2,0.0]",
+        "bodies.crank.points.O2=[-0.225,0.0]",
         "--set",
-        "bodies.crank.initial.x=0.2",
+        "bodies.crank.initial.x=0.225",
         "--revs",
         "1",
         "--out",

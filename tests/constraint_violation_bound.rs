@@ -65,7 +65,7 @@ fn a_state_off_the_joints_is_refused_at_the_step_end() {
     let (limit, _) = violation_limit(dae.length_scale(), 1e-8, 1e-10);
     // Exactly on the bound passes (|Φ| ≤ bound); twice the bound in x does not.
     y[0] += 2.0 * limit;
-    let err = dae.accept_step(0.5, &y, 1e-8, 1e-10).err();
+    let err = dae.accept_step(0.5, &mut y, 1e-8, 1e-10).err();
     match err {
         Some(FormulationError::ConstraintViolation {
             t,
@@ -89,7 +89,7 @@ fn a_state_off_the_joints_is_refused_at_the_step_end() {
     // A NaN coordinate is a violation too, never a pass.
     let mut y = dae.initial_state();
     y[1] = f64::NAN;
-    assert!(dae.accept_step(0.5, &y, 1e-8, 1e-10).is_err());
+    assert!(dae.accept_step(0.5, &mut y, 1e-8, 1e-10).is_err());
 }
 
 #[test]

@@ -113,7 +113,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     }
     if let Some(first) = summary.singular_passages.first() {
         eprintln!(
-            "warning: the DAE passed {} singular position(s) of the linkage (the first at t = {:.6} s); it keeps the assembly branch through them only where the Baumgarte terms damp the constraint drift between passages (alpha, beta of about 10/T, T the time between passages): confirm with --formulation generalized (docs/formulations.md, \"The DAE at singular positions\")",
+            "note: the DAE passed at least {} singular position(s) of the linkage (the first at t = {:.6} s): it keeps the assembly branch by projecting onto the joints near them, and the joint reactions there are not unique (a self-stress of the loop can be added); --formulation generalized integrates the same motion in independent coordinates (docs/formulations.md, \"The DAE at singular positions\")",
             summary.singular_passages.len(),
             first
         );

@@ -30,11 +30,12 @@
 //! position the motion is free along u and inertia carries it through on the branch it is on;
 //! at a true lock (b not in the range of Φ_q: no motion can go on) the force grows like 1/μ and
 //! the step size collapses there, which the stall diagnosis reports
-//! ([`super::diagnosis`]). The drift left by the integration must decay between two passages
-//! (by the Baumgarte terms) faster than a passage amplifies it (~1e3): for passages every T
-//! seconds α, β ≳ 10/T; with less the motion can continue on the crossed branch without an
-//! error (docs/formulations.md, "The DAE at singular positions", with the measurements and
-//! the alternatives tried).
+//! ([`super::diagnosis`]). A drift on arrival at a crossing of two branches leaves it as a
+//! deflection ~1e3 times larger, which the Baumgarte terms at their default 10 s⁻¹ do not damp
+//! before the next passage: the step ends near singular positions are therefore projected onto
+//! the constraints ([`projection`]), and the passages are reported (`dae/passages.rs`,
+//! [`Dae::singular_passages`]; docs/formulations.md, "The DAE at singular positions", with the
+//! measurements and the alternatives tried).
 //!
 //! Joint reactions near a singular position are finite but not unique: their sum over a loop's
 //! ground joints is (Newton's law), their split is up to a self-stress that the near-null
@@ -60,6 +61,9 @@ use std::cell::RefCell;
 use super::schur::{Schur, SchurSolver};
 
 mod jacobian;
+mod passages;
+pub mod projection;
+use projection::PROJECTION_RATIO;
 
 /// Options of the DAE formulation.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
@@ -109,9 +113,9 @@ struct Work {
     last_t: f64,
     last_y: Vec<f64>,
     last_acc: Vec<f64>,
-    /// Smallest [`Schur::min_pivot_ratio`] of the right-hand sides since the last accepted
-    /// step (stages of rejected attempts included): how close the step came to a singular
-    /// position.
+    /// Smallest [`Schur::min_pivot_ratio`] of the right-hand sides since the start of the step
+    /// ([`Formulation::begin_step`]; stages of rejected attempts included, evaluations for
+    /// output samples not): how close the step came to a singular position.
     min_pivot_ratio: f64,
 }
 
@@ -144,8 +148,10 @@ pub struct Dae {
     /// Times (s) at which accepted steps came within [`SINGULAR_PASSAGE_RATIO`] of a singular
     /// position, one per passage (see [`Dae::singular_passages`]).
     singular_passages: Vec<f64>,
-    /// Whether the last accepted step was still near the singular position of the last passage.
-    near_singular: bool,
+    /// The steps of the current approach to a singular position ([`passages`]).
+    episode: passages::Episode,
+    /// Step ends projected onto the constraints near singular positions ([`projection`]).
+    projections: usize,
     work: RefCell<Work>,
 }
 
@@ -201,7 +207,8 @@ impl Dae {
             length_scale: length_scale(model, &assembly.q),
             max_step_violation: 0.0,
             singular_passages: Vec::new(),
-            near_singular: false,
+            projections: 0,
+            episode: passages::Episode::default(),
             assembly,
             work: RefCell::new(Work {
                 sin_cos: vec![(0.0, 1.0); nb],
@@ -268,14 +275,22 @@ impl Dae {
         self.baumgarte
     }
 
-    /// Times (s) of the accepted steps at which the run passed a singular position of the
-    /// linkage (the constraint Jacobian nearly losing rank: [`SINGULAR_PASSAGE_RATIO`]), one per
-    /// passage. The DAE goes through such positions with regularised pivots, but keeps the
-    /// assembly branch only where the Baumgarte terms damp the drift between passages
-    /// (docs/formulations.md, "The DAE at singular positions"): a run that lists passages is
-    /// worth confirming with the generalised formulation.
-    pub fn singular_passages(&self) -> &[f64] {
-        &self.singular_passages
+    /// Times (s) at which the run passed a singular position of the linkage (the constraint
+    /// Jacobian losing rank: the pivot ratio, observed or fitted over the steps of the
+    /// approach, below [`SINGULAR_PASSAGE_RATIO`]; `dae/passages.rs`), one per passage. The DAE goes
+    /// through such positions with regularised pivots and keeps the assembly branch by
+    /// projecting the step ends near them ([`projection`]); the joint reactions there are not
+    /// unique (docs/formulations.md, "The DAE at singular positions").
+    pub fn singular_passages(&self) -> Vec<f64> {
+        let mut all = self.singular_passages.clone();
+        all.extend(self.episode.passage());
+        all
+    }
+
+    /// How many step ends were projected onto the constraints near singular positions so far
+    /// ([`projection`]).
+    pub fn projections(&self) -> usize {
+        self.projections
     }
 
     /// Length scale L of the linkage (m): the largest distance between two of its points at
@@ -352,7 +367,6 @@ impl Dae {
                 constraint: self.constraints.row_name(&self.model, self.active[k]),
             });
         }
-        work.min_pivot_ratio = work.min_pivot_ratio.min(work.schur.min_pivot_ratio());
         // The right-hand side b = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ), with W = M⁻¹ Φ_qᵀ by row
         // blocks.
         for (i, &ri) in self.active.iter().enumerate() {
@@ -625,7 +639,7 @@ impl Outputs for Dae {
     }
 
     fn singular_passages(&self) -> Vec<f64> {
-        self.singular_passages.clone()
+        Dae::singular_passages(self)
     }
 }
 
@@ -675,17 +689,13 @@ fn shift_at(
 /// ulp for d ≳ 1e-2 D.
 pub const PIVOT_REGULARISATION: f64 = 1e-10;
 
-/// A right-hand side whose smallest pivot ratio ([`Schur::min_pivot_ratio`]: the squared sine
-/// of the angle between a constraint row and the span of the others) falls below this is "at a
-/// singular position" for [`Dae::singular_passages`]: within ~1e-3 (relative) of one, where
-/// the ratio falls like s². The shipped models stay well above it (smallest ratio over two
-/// turns or 3 s, measured 2026-11-25: 4.1e-4 quick_return, 7.6e-3 watt_sixbar, ≥ 2e-2 the
-/// others). Steps that stride over a passage with no stage that close miss it (loose
-/// tolerances, few stages per step): a report of passages is a warning, not a count.
+/// An approach whose smallest pivot ratio ([`Schur::min_pivot_ratio`]: the squared sine of the
+/// angle between a constraint row and the span of the others), observed at a stage or fitted
+/// over the step ends (`dae/passages.rs`), falls below this passed a singular position for
+/// [`Dae::singular_passages`]: within ~1e-3 (relative) of one, where the ratio falls like s².
+/// The shipped models stay well above it (smallest ratio over two turns or 3 s, measured
+/// 2026-11-25: 4.1e-4 quick_return, 7.6e-3 watt_sixbar, ≥ 2e-2 the others).
 pub const SINGULAR_PASSAGE_RATIO: f64 = 1e-6;
-
-/// A passage ends when an accepted step's smallest pivot ratio is back above this.
-pub const SINGULAR_PASSAGE_EXIT_RATIO: f64 = 1e-4;
 
 /// f −= Φ_qᵀ x over the active rows.
 fn subtract_constraint_forces(
@@ -795,6 +805,9 @@ impl Formulation for Dae {
         dq.copy_from_slice(&y[n..2 * n]);
         dstored.fill(0.0);
         self.accelerations_into(t, y, dv, &mut work)?;
+        // Only the integrator's own calls count towards how near a step came to a singular
+        // position: evaluations for output samples must not change the run (projections).
+        work.min_pivot_ratio = work.min_pivot_ratio.min(work.schur.min_pivot_ratio());
         if self.energy {
             let nc = self.contacts.len();
             dstored[nc..nc + 3].copy_from_slice(&work.energy_rates);
@@ -844,27 +857,39 @@ impl Formulation for Dae {
         EventResponse::Restart
     }
 
-    /// Checks |Φ| of every row at the step end against [`violation_limit`] (positions in m,
-    /// angles in rad) and keeps the largest |Φ| seen ([`Outputs::step_constraint_violation`]).
-    /// Costs one evaluation of the constraint rows per step, a fraction of one RHS call.
+    /// The stages of the step start counting towards [`Dae::singular_passages`] and the
+    /// projection near singular positions.
+    fn begin_step(&mut self, _t: f64, _y: &[f64]) {
+        self.work.get_mut().min_pivot_ratio = 1.0;
+    }
+
+    /// Near a singular position (a stage of the step with a pivot ratio below
+    /// [`PROJECTION_RATIO`]) projects the step end onto the constraints and asks for a restart
+    /// ([`projection`]). Then checks |Φ| of every row at the step end against
+    /// [`violation_limit`] (positions in m, angles in rad) and keeps the largest |Φ| seen
+    /// ([`Outputs::step_constraint_violation`]). Costs one evaluation of the constraint rows per
+    /// step, a fraction of one RHS call.
     fn accept_step(
         &mut self,
         t: f64,
-        y: &[f64],
+        y: &mut [f64],
         rtol: f64,
         atol: f64,
-    ) -> Result<(), FormulationError> {
+    ) -> Result<EventResponse, FormulationError> {
         let n = self.n_coordinates();
-        let work = self.work.get_mut();
-        // One passage per dip of the pivot ratio below the entry level; the hysteresis up to the
-        // exit level keeps one passage from being counted twice.
-        let ratio = std::mem::replace(&mut work.min_pivot_ratio, 1.0);
-        if ratio < SINGULAR_PASSAGE_RATIO && !self.near_singular {
-            self.singular_passages.push(t);
-            self.near_singular = true;
-        } else if ratio > SINGULAR_PASSAGE_EXIT_RATIO {
-            self.near_singular = false;
+        let stage_min = self.work.get_mut().min_pivot_ratio;
+        let mut response = EventResponse::Continue;
+        if stage_min < PROJECTION_RATIO {
+            let (r_end, projected) = self.project_state(t, y, &mut self.work.borrow_mut())?;
+            self.episode.add(t, r_end, stage_min);
+            if projected {
+                self.projections += 1;
+                response = EventResponse::Restart;
+            }
+        } else if !self.episode.is_empty() {
+            self.singular_passages.extend(self.episode.finish());
         }
+        let work = self.work.get_mut();
         for (i, sc) in work.sin_cos.iter_mut().enumerate() {
             *sc = y[3 * i + 2].sin_cos();
         }
@@ -891,7 +916,7 @@ impl Formulation for Dae {
             }
         }
         let Some((k, value)) = worst else {
-            return Ok(());
+            return Ok(response);
         };
         let angle = is_angle_row(self.constraints.sources()[k]);
         Err(FormulationError::ConstraintViolation {

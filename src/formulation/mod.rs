@@ -127,19 +127,30 @@ pub trait Formulation {
         None
     }
 
+    /// Called by the driver before the first attempt of every step from (t, y). A formulation
+    /// that keeps statistics over the stages of a step (the DAE: how near they came to a
+    /// singular position) resets them here, so that right-hand sides evaluated for the dense
+    /// output of the previous step (output samples, which differ from run to run) do not
+    /// count. Default: nothing.
+    fn begin_step(&mut self, _t: f64, _y: &[f64]) {}
+
     /// Called by the driver at the end of every accepted step, with the new state (t, y) and
     /// the tolerances `rtol`, `atol` the step was accepted with, before the step is handed to
     /// events and samples. A formulation checks here what must hold at every step, not only at
     /// the output samples (the DAE: the constraint violation |Φ| within its bound), and keeps
-    /// running maxima. An error stops the run at t. Default: nothing.
+    /// running maxima. It may also correct the step end (the DAE projects it onto the
+    /// constraints near singular positions) and then returns [`EventResponse::Restart`]: the
+    /// integrator restarts from the corrected y before the next step (the dense output of the
+    /// step just taken stays as it was). An error stops the run at t. Default: nothing
+    /// ([`EventResponse::Continue`]).
     fn accept_step(
         &mut self,
         _t: f64,
-        _y: &[f64],
+        _y: &mut [f64],
         _rtol: f64,
         _atol: f64,
-    ) -> Result<(), FormulationError> {
-        Ok(())
+    ) -> Result<EventResponse, FormulationError> {
+        Ok(EventResponse::Continue)
     }
 
     /// What in the mechanism may explain a run that stopped making progress at (t, y): the

@@ -456,6 +456,7 @@ impl<F: Formulation> Stepper<'_, F> {
         self.f.events(t, &self.y, &mut self.ev.g_lo);
         self.set_reference_signs();
         self.ev.pending_restart = false;
+        self.restart_before_next_step = false;
         self.integrator.restart(t, &self.y, &self.dy);
         self.stats.restarts += 1;
         self.h_next = self.h_next.min(self.opts.h_max);

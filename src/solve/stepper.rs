@@ -34,7 +34,7 @@ use super::options::{Method, SolverOptions};
 use super::progress::{AttemptAt, Progress};
 use super::rk::{eval_rhs, first_non_finite};
 use super::stats::SolverStats;
-use crate::formulation::Formulation;
+use crate::formulation::{EventResponse, Formulation};
 
 /// Why [`Stepper::step`] returned.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -154,6 +154,9 @@ pub struct Stepper<'a, F: Formulation> {
     pub(super) step_final: bool,
     /// ... and has been handed to the sink's step hook.
     step_hooked: bool,
+    /// The formulation corrected the last step end ([`Formulation::accept_step`]): restart the
+    /// method from it before the next step.
+    pub(super) restart_before_next_step: bool,
 }
 
 impl<'a, F: Formulation> Stepper<'a, F> {
@@ -217,6 +220,7 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             progress: Progress::new(t0, opts.max_wall),
             step_final: false,
             step_hooked: false,
+            restart_before_next_step: false,
             f,
         };
         eval_rhs(
@@ -290,6 +294,9 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                         self.t_reached = self.t;
                         return Ok(Stop::EndReached);
                     }
+                    if self.restart_before_next_step {
+                        self.restart()?;
+                    }
                     if self.advance()? {
                         self.begin_scan();
                         self.phase = Phase::Scanning;
@@ -351,6 +358,7 @@ impl<'a, F: Formulation> Stepper<'a, F> {
         // reported if the step cannot shrink any further.
         let mut recoverable: Option<SolveError> = None;
         let adaptive = self.opts.fixed_step.is_none();
+        self.f.begin_step(t, &self.y);
         loop {
             let attempts = self.stats.steps + self.stats.rejected;
             if attempts >= self.opts.max_steps {
@@ -412,12 +420,21 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                     component,
                 });
             }
-            // What must hold at every accepted step, not only at samples (the DAE's |Φ|).
-            self.f
-                .accept_step(t_new, y_new, self.opts.rtol, self.opts.atol)
-                .map_err(|source| SolveError::Formulation { t: t_new, source })?;
             std::mem::swap(&mut self.y_old, &mut self.y);
             self.y.copy_from_slice(y_new);
+            // What must hold at every accepted step, not only at samples (the DAE's |Φ|); the
+            // formulation may correct the step end, and the method then restarts from it.
+            match self
+                .f
+                .accept_step(t_new, &mut self.y, self.opts.rtol, self.opts.atol)
+            {
+                Ok(EventResponse::Continue) => {}
+                Ok(EventResponse::Restart) => self.restart_before_next_step = true,
+                Err(source) => {
+                    std::mem::swap(&mut self.y_old, &mut self.y);
+                    return Err(SolveError::Formulation { t: t_new, source });
+                }
+            }
             self.t_old = t;
             self.t = t_new;
             self.h_step = h;

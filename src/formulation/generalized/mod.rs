@@ -767,16 +767,16 @@ impl Formulation for Generalized {
     fn accept_step(
         &mut self,
         t: f64,
-        y: &[f64],
+        y: &mut [f64],
         _rtol: f64,
         _atol: f64,
-    ) -> Result<(), FormulationError> {
+    ) -> Result<EventResponse, FormulationError> {
         let mut work = self.work.borrow_mut();
         self.project_into(t, y, &mut work)?;
         let residual = work.residual;
         drop(work);
         self.max_step_violation = self.max_step_violation.max(residual);
-        Ok(())
+        Ok(EventResponse::Continue)
     }
 
     /// The partition's condition (current and best pivot ratio, the independent coordinates
