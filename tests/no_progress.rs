@@ -330,14 +330,8 @@ fn the_dae_passes_the_change_point_of_a_toggle_and_reports_it() {
     let violation = dae.step_constraint_violation();
     assert!(violation < 1e-6, "|Φ| reached {violation:e}");
     let column = |name: &str| {
-        let k = rec
-            .names
-            .iter()
-            .position(|n| n == name)
-            .unwrap_or_else(|| panic!("no column {name}"));
-        (0..rec.len())
-            .map(|i| rec.values[i * rec.names.len() + k])
-            .collect::<Vec<f64>>()
+        rec.column(name)
+            .unwrap_or_else(|| panic!("no column {name}"))
     };
     let (crank, rocker, rate) = (
         column("crank.phi"),

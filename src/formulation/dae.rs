@@ -876,7 +876,6 @@ impl Formulation for Dae {
         rtol: f64,
         atol: f64,
     ) -> Result<EventResponse, FormulationError> {
-        let n = self.n_coordinates();
         let stage_min = self.work.get_mut().min_pivot_ratio;
         let mut response = EventResponse::Continue;
         if stage_min < PROJECTION_RATIO {
@@ -889,17 +888,8 @@ impl Formulation for Dae {
         } else if !self.episode.is_empty() {
             self.singular_passages.extend(self.episode.finish());
         }
-        let work = self.work.get_mut();
-        for (i, sc) in work.sin_cos.iter_mut().enumerate() {
-            *sc = y[3 * i + 2].sin_cos();
-        }
-        self.constraints.evaluate_into(
-            t,
-            &y[..n],
-            &y[n..2 * n],
-            &work.sin_cos,
-            &mut work.constraints,
-        );
+        let work = &mut *self.work.borrow_mut();
+        self.constraints_at(t, y, work);
         let (limit_m, limit_rad) = violation_limit(self.length_scale, rtol, atol);
         let mut worst: Option<(usize, f64)> = None;
         for (k, phi) in work.constraints.phi.iter().enumerate() {

@@ -90,8 +90,8 @@ impl Dae {
         Ok((ratio, true))
     }
 
-    /// Evaluates the constraint rows at y and factors A there.
-    fn factor_at(&self, t: f64, y: &[f64], work: &mut Work) -> Result<(), FormulationError> {
+    /// Evaluates the constraint rows (Φ, Φ̇, Φ_q, …) at y into `work.constraints`.
+    pub(super) fn constraints_at(&self, t: f64, y: &[f64], work: &mut Work) {
         let n = self.n_coordinates();
         for (i, sc) in work.sin_cos.iter_mut().enumerate() {
             *sc = y[3 * i + 2].sin_cos();
@@ -103,6 +103,11 @@ impl Dae {
             &work.sin_cos,
             &mut work.constraints,
         );
+    }
+
+    /// Evaluates the constraint rows at y and factors A there.
+    fn factor_at(&self, t: f64, y: &[f64], work: &mut Work) -> Result<(), FormulationError> {
+        self.constraints_at(t, y, work);
         let rows = &work.constraints.rows;
         work.schur
             .factor_regularised(rows, &self.active, &self.inv_mass, &self.shift)
