@@ -6,7 +6,7 @@
 //! Met by the DAE (Radau5, rtol 3e-9, with the cut of steps at events) and by the reduced
 //! formulation (Radau5, rtol 1e-8), the latter since Radau5 resets its Newton convergence
 //! estimate at restarts and the friction law's kinks are event functions at which its steps
-//! end (docs/numerics.md, "Radau5 at events").
+//! end (docs/numerics.md, "The reduced formulation meets the target").
 
 mod common;
 
@@ -91,8 +91,8 @@ fn reduced_radau5_reaches_1e_8_rad_in_fewer_than_35k_rhs() {
     let err = angle_error(&rec, &reference);
     // Measured (2026-11-26): 5.8e-9 rad with 32 488 RHS (analytic Jacobian: no RHS calls in
     // it). The bounds are the issue's. Without the kink events the same run gives 4.9e-8 rad,
-    // without the reset of Newton's convergence estimate at restarts 8.7e-6 rad
-    // (docs/numerics.md), so either change undone shows here.
+    // without the reset of Newton's convergence estimate at restarts 5.4e-7 rad, without both
+    // 8.7e-6 rad (docs/numerics.md), so either change undone shows here.
     assert!(
         err <= 1e-8 && stats.rhs_evals < 35_000,
         "reduced Radau5 rtol 1e-8: angle error {err:e} rad with {} RHS ({stats:?})",

@@ -4,8 +4,8 @@
 //! v_t but its slope jumps at |v_t| = v0 and |v_t| = v1 (the printed variant jumps in value
 //! there). A Radau5 step across such a point integrates one polynomial over two laws; the error
 //! estimate, made for smooth solutions, does not see it. On farahan2016 (250 rpm, rtol 1e-9)
-//! such steps had true local errors of 1e-6 rad/s in the rates, ~10× their tolerance, and the
-//! next impacts amplify that (docs/numerics.md, "Radau5 at events"). As event functions the
+//! such steps had true local errors of up to 1.2e-6 rad/s in the rates, and the next impacts
+//! amplify that (docs/numerics.md, "The reduced formulation meets the target"). As event functions the
 //! kinks are cut by Radau5 like an impact (`Radau5Settings::cut_at_events`): the step ends
 //! just past the kink. The response is [`EventResponse::Continue`](crate::formulation::EventResponse::Continue):
 //! nothing in the state changes.

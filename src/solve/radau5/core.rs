@@ -192,7 +192,8 @@ impl Radau5Core {
     }
 
     /// (Re)starts with f0 = f(t, y) at the state of the next attempt: the Jacobian is stale,
-    /// Newton starts from zero, the step-size history is forgotten. The dense output of the
+    /// Newton starts from zero with its convergence estimate κ back at 1, the step-size history
+    /// is forgotten. The dense output of the
     /// last accepted step is kept.
     pub fn restart(&mut self, f0: &[f64]) {
         self.f0.copy_from_slice(f0);
@@ -205,7 +206,8 @@ impl Radau5Core {
         // RADAU5 starts with FACCON = 1. Kept from before the restart, a tiny κ (fast
         // contraction in free flight) lets the first Newton iteration from Z = 0 pass as
         // converged: on farahan2016 (reduced, rtol 1e-9) the first step into a contact then
-        // had a true error of 3e-5 rad/s in θ̇3 (docs/numerics.md, "Radau5 at events").
+        // had a true error of 3e-5 rad/s in θ̇3 (docs/numerics.md, "The reduced formulation meets
+        // the target").
         self.faccon = 1.0;
     }
 
