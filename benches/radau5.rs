@@ -12,8 +12,8 @@
 //! (rtol 1e-10, 1.6e-8 rad).
 //!
 //! The reduced formulation's target point (with the reset of Newton's convergence estimate at
-//! restarts and the friction kinks as event functions): Radau5 rtol 1e-8, 5.8e-9 rad with
-//! 32 488 RHS (`tests/radau5_target_250rpm.rs`), against DOP853 rtol 2e-9 (2.2e-9 rad, its
+//! restarts and the friction kinks as event functions): Radau5 rtol 1e-8, 8.4e-9 rad with
+//! 31 824 RHS (`tests/radau5_target_250rpm.rs`), against DOP853 rtol 2e-9 (2.2e-9 rad, its
 //! cheapest point ≤ 1e-8 rad; rtol 3e-9 gives 6.3e-8).
 
 use criterion::{Criterion, criterion_group, criterion_main};

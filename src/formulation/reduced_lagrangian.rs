@@ -599,7 +599,8 @@ impl ReducedLagrangian {
     /// With `on` (the default), the kinks of the friction law (slip speeds ±v0, ±v1) are event
     /// functions 1–4 while in contact, so that Radau5 ends its steps at them
     /// (`reduced_lagrangian/kinks.rs`); off, δ is the only event function. A model without
-    /// friction has none either way.
+    /// friction has none either way. [`crate::simulation::Simulation`] switches them off for
+    /// every method but Radau5 (their steps do not change at events).
     #[must_use]
     pub fn friction_kink_events(mut self, on: bool) -> Self {
         self.kink_events = if on {
