@@ -53,7 +53,10 @@
 //! **Contact.** δ = |e| − c is the event function; a Rising zero stores δ̇⁽⁻⁾ = max(δ̇, 0) in y, a
 //! Falling one clears it; both are logged in a [`ContactMemory`] and restart the integrator. The
 //! law uses the stored δ̇⁽⁻⁾, or the current δ̇ when none is stored ([`impact_velocity`]). While
-//! free, [`Formulation::max_step`] applies the grazing guard [`free_flight_max_step`].
+//! free, [`Formulation::max_step`] applies the grazing guard [`free_flight_max_step`]. With a
+//! friction law, events 1–4 mark its kinks (v_t = ±v0, ±v1) while in contact, so that Radau5
+//! ends its steps there; they change nothing (`reduced_lagrangian/kinks.rs`,
+//! [`ReducedLagrangian::friction_kink_events`]).
 //!
 //! **Requirements** (otherwise `FormulationError::Unsupported { formulation: "reduced", .. }`):
 //! exactly 3 moving bodies; exactly one driver, on a revolute joint between ground and a body (the
@@ -86,6 +89,7 @@ use crate::model::{
 };
 
 mod jacobian;
+mod kinks;
 
 /// Name used in `FormulationError::Unsupported`.
 const NAME: &str = "reduced";
@@ -448,6 +452,9 @@ pub struct ReducedLagrangian {
     driver_name: String,
     /// Event log (bookkeeping only; the stored δ̇⁽⁻⁾ is in the state vector).
     memory: ContactMemory,
+    /// Slip speeds (v0, v1) of the friction law's kinks, when they are event functions
+    /// (`kinks.rs`; on by default for a law with kinks).
+    kink_events: Option<[f64; 2]>,
     y0: [f64; 5],
 }
 
@@ -545,6 +552,7 @@ impl ReducedLagrangian {
             joint_name: four_bar.clearance_joint.name.clone(),
             driver_name: driver.name.clone(),
             memory: ContactMemory::new(false),
+            kink_events: kinks::friction_kinks(&spec.friction),
             y0: [0.0; 5],
             crank,
             coupler,
@@ -586,6 +594,21 @@ impl ReducedLagrangian {
             self.coupler.length,
             self.rocker.length,
         ]
+    }
+
+    /// With `on` (the default), the kinks of the friction law (slip speeds ±v0, ±v1) are event
+    /// functions 1–4 while in contact, so that Radau5 ends its steps at them
+    /// (`reduced_lagrangian/kinks.rs`); off, δ is the only event function. A model without
+    /// friction has none either way. [`crate::simulation::Simulation`] switches them off for
+    /// every method but Radau5 (their steps do not change at events).
+    #[must_use]
+    pub fn friction_kink_events(mut self, on: bool) -> Self {
+        self.kink_events = if on {
+            kinks::friction_kinks(&self.joint.friction)
+        } else {
+            None
+        };
+        self
     }
 
     /// Contact events logged so far (impact times and velocities, separations).
@@ -1033,14 +1056,22 @@ impl Formulation for ReducedLagrangian {
         }
     }
 
-    /// One event function: the penetration δ (m) of the clearance joint.
+    /// Event 0: the penetration δ (m) of the clearance joint; events 1–4, if the friction law
+    /// has kinks: the slip velocity at them, v_t ∓ v0, v_t ∓ v1 (m/s), in contact only
+    /// (`reduced_lagrangian/kinks.rs`).
     fn n_events(&self) -> usize {
-        1
+        1 + self.kink_events.map_or(0, |_| kinks::N_KINK_EVENTS)
     }
 
     fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
-        if let Some(g0) = g.first_mut() {
-            *g0 = self.kinematics(t, y).delta;
+        let kin = self.kinematics(t, y);
+        let Some((g0, rest)) = g.split_first_mut() else {
+            return;
+        };
+        *g0 = kin.delta;
+        if let Some(kinks) = self.kink_events {
+            let [.., stored] = state(y);
+            kinks::kink_events(kinks, stored, kin.tangential_velocity, rest);
         }
     }
 
@@ -1900,6 +1931,43 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// With Ambrósio friction, events 1–4 are v_t ∓ v0, v_t ∓ v1 while a contact with a stored
+    /// δ̇⁽⁻⁾ is open and constant (no crossing) otherwise; they change nothing in the state.
+    /// Without friction, or switched off, δ is the only event function.
+    #[test]
+    fn friction_kinks_are_events_in_contact() {
+        let r = reduced(&Variant::default());
+        assert_eq!(r.n_events(), 5);
+        assert_eq!(r.clone().friction_kink_events(false).n_events(), 1);
+        let frictionless = Variant {
+            friction: "law = \"none\"",
+            ..Variant::default()
+        };
+        assert_eq!(reduced(&frictionless).n_events(), 1);
+        let mut rng = Lcg(17);
+        let (t, mut y) = random_state(&r, &mut rng, 1e-6);
+        let v_t = outputs(&r, t, &y).tangential_velocity;
+        let mut g = [0.0; 5];
+        r.events(t, &y, &mut g);
+        assert_eq!(g[1..], [1.0; 4], "no stored δ̇⁽⁻⁾: kinks inactive");
+        y[4] = 0.05;
+        r.events(t, &y, &mut g);
+        assert!(g[0] > 0.0, "in contact: δ = {}", g[0]);
+        assert_eq!(g[1..], [v_t - 1e-4, v_t + 1e-4, v_t - 1e-3, v_t + 1e-3]);
+        let mut m = r.clone();
+        for index in 1..5 {
+            let mut yy = y;
+            for crossing in [Crossing::Rising, Crossing::Falling] {
+                assert_eq!(
+                    m.apply_event(t, &mut yy, index, crossing),
+                    EventResponse::Continue
+                );
+                assert_eq!(yy, y, "event {index} changes nothing");
+            }
+        }
+        assert!(m.contact_memory().impacts.is_empty());
     }
 
     /// Events: g = δ; a Rising crossing stores δ̇⁽⁻⁾ = max(δ̇, 0) in y and restarts; a Falling one

@@ -222,3 +222,41 @@ fn simulations_and_trajectories_can_cross_threads() {
     send_sync::<Trajectory>();
     send_sync::<RunSummary>();
 }
+
+/// The reduced formulation's friction kinks are events with Radau5 (which ends its steps at
+/// them) and not with DOP853; the impacts (event 0) and the summary's impact log do not
+/// depend on it.
+#[test]
+fn friction_kink_events_only_with_radau5() {
+    let model = load("models/farahan2016.toml", &[]);
+    let run = |method: crate::solve::Method| {
+        let solver = SolverOptions::default()
+            .method(method)
+            .rtol(1e-8)
+            .atol(1e-11);
+        let options = SimulationOptions::default()
+            .formulation(FormulationKind::Reduced)
+            .revs(0.25)
+            .dt(1e-3)
+            .solver(solver);
+        let sim = Simulation::new(&model, options).unwrap_or_else(|e| panic!("{e}"));
+        sim.run_to_memory().unwrap_or_else(|e| panic!("{e}"))
+    };
+    let (radau, dop) = (
+        run(crate::solve::Method::Radau5),
+        run(crate::solve::Method::Dop853),
+    );
+    let kinks = |t: &Trajectory| t.events.iter().filter(|e| e.index > 0).count();
+    assert!(kinks(&radau) > 0, "Radau5: no kink events");
+    assert_eq!(kinks(&dop), 0, "DOP853: kink events");
+    let impacts = |t: &Trajectory| t.summary.clearance_joints[0].impacts.len();
+    assert_eq!(impacts(&radau), impacts(&dop));
+    assert_eq!(
+        impacts(&radau),
+        radau
+            .events
+            .iter()
+            .filter(|e| e.index == 0 && e.crossing == Crossing::Rising)
+            .count()
+    );
+}

@@ -113,6 +113,9 @@ pub struct Radau5Core {
     /// Whether the current attempt is the retry of a step cut at an event crossing (it is
     /// not cut again).
     cut_retry: bool,
+    /// Whether the last accepted step was such a retry and still ended before the crossing:
+    /// the next attempt is not cut either (see [`Radau5Core::event_cut`]).
+    cut_fell_short: bool,
     first: bool,
     reject: bool,
     faccon: f64,
@@ -181,6 +184,7 @@ impl Radau5Core {
             g_end: Vec::new(),
             g_mid: Vec::new(),
             cut_retry: false,
+            cut_fell_short: false,
             first: true,
             reject: false,
             faccon: 1.0,
@@ -192,7 +196,8 @@ impl Radau5Core {
     }
 
     /// (Re)starts with f0 = f(t, y) at the state of the next attempt: the Jacobian is stale,
-    /// Newton starts from zero, the step-size history is forgotten. The dense output of the
+    /// Newton starts from zero with its convergence estimate κ back at 1, the step-size history
+    /// is forgotten. The dense output of the
     /// last accepted step is kept.
     pub fn restart(&mut self, f0: &[f64]) {
         self.f0.copy_from_slice(f0);
@@ -201,7 +206,14 @@ impl Radau5Core {
         self.first = true;
         self.reject = false;
         self.cut_retry = false;
+        self.cut_fell_short = false;
         self.accepted_since_start = 0;
+        // RADAU5 starts with FACCON = 1. Kept from before the restart, a tiny κ (fast
+        // contraction in free flight) lets the first Newton iteration from Z = 0 pass as
+        // converged: on farahan2016 (reduced, rtol 1e-9) the first step into a contact then
+        // had a true error of 3e-5 rad/s in θ̇3 (docs/numerics.md, "The reduced formulation meets
+        // the target").
+        self.faccon = 1.0;
     }
 
     /// The state at the end of the last attempt (meaningless after a rejection).
@@ -403,6 +415,7 @@ impl Radau5Core {
             && error_control
             && self.settings.cut_at_events
             && !self.cut_retry
+            && !self.cut_fell_short
             && let Some(h_cut) = self.event_cut(f, (t, y), (h, t_new))
         {
             self.cut_retry = true;
@@ -444,7 +457,13 @@ impl Radau5Core {
         } else {
             h_new
         };
+        // A cut retry whose end is still before the crossing (the retry's solution moved the
+        // crossing by more than the 0.1 % overshoot): the next attempt would be cut again near
+        // its start, and so on, h → 0 (seen as v_t slides onto a friction kink). Let the next
+        // attempt cross instead.
+        let fell_short = self.cut_retry && !self.crosses(f, (t, y), t_new);
         self.commit(t_new, h);
+        self.cut_fell_short = fell_short;
         self.need_jac = !theta_small;
         Ok(Outcome::Accepted { h_next })
     }
@@ -469,19 +488,7 @@ impl Radau5Core {
         (h, t_new): (f64, f64),
     ) -> Option<f64> {
         let ne = f.n_events();
-        if ne == 0 {
-            return None;
-        }
-        for g in [&mut self.g_start, &mut self.g_end, &mut self.g_mid] {
-            g.resize(ne, 0.0);
-        }
-        f.events(t, y, &mut self.g_start);
-        for k in 0..self.n {
-            self.y_stage[k] = y[k] + self.z[2][k];
-        }
-        f.events(t_new, &self.y_stage, &mut self.g_end);
-        let crossed = |a: f64, b: f64| (a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0);
-        if !(0..ne).any(|i| crossed(self.g_start[i], self.g_end[i])) {
+        if !self.crosses(f, (t, y), t_new) {
             return None;
         }
         polynomial_of(&self.z, &mut self.cont_try);
@@ -506,6 +513,29 @@ impl Radau5Core {
         let h_cut = h * theta * 1.001;
         let floor = 64.0 * f64::EPSILON * t.abs().max(h.abs());
         (theta < 0.99 && h_cut.abs() > floor).then_some(h_cut)
+    }
+
+    /// Whether an event function changes sign between (t, y) and the attempt's end
+    /// (t_new, y + Z₃); leaves the values in `g_start` and `g_end`.
+    fn crosses<F: Formulation + ?Sized>(
+        &mut self,
+        f: &F,
+        (t, y): (f64, &[f64]),
+        t_new: f64,
+    ) -> bool {
+        let ne = f.n_events();
+        if ne == 0 {
+            return false;
+        }
+        for g in [&mut self.g_start, &mut self.g_end, &mut self.g_mid] {
+            g.resize(ne, 0.0);
+        }
+        f.events(t, y, &mut self.g_start);
+        for k in 0..self.n {
+            self.y_stage[k] = y[k] + self.z[2][k];
+        }
+        f.events(t_new, &self.y_stage, &mut self.g_end);
+        (0..ne).any(|i| crossed(self.g_start[i], self.g_end[i]))
     }
 
     /// The polynomial of the current attempt at s = (τ − t_new)/h, minus its end value.
@@ -625,6 +655,11 @@ impl Radau5Core {
         }
         (sum / self.norms.n_controlled.max(1) as f64).sqrt()
     }
+}
+
+/// Whether a and b lie strictly on opposite sides of zero.
+fn crossed(a: f64, b: f64) -> bool {
+    (a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0)
 }
 
 /// Coefficients of the collocation polynomial through the stage increments z (CONTR5's
