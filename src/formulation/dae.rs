@@ -275,6 +275,12 @@ impl Dae {
         self.baumgarte
     }
 
+    /// The pivot regularisation μ_k of the multiplier solve per active row (see
+    /// [`PIVOT_REGULARISATION`]), for the residual form's algebraic rows.
+    pub(super) fn pivot_shift(&self) -> &[f64] {
+        &self.shift
+    }
+
     /// Times (s) at which the run passed a singular position of the linkage (the constraint
     /// Jacobian losing rank: the pivot ratio, observed or fitted over the steps of the
     /// approach, below [`SINGULAR_PASSAGE_RATIO`]; `dae/passages.rs`), one per passage. The DAE goes
@@ -861,6 +867,13 @@ impl Formulation for Dae {
     /// projection near singular positions.
     fn begin_step(&mut self, _t: f64, _y: &[f64]) {
         self.work.get_mut().min_pivot_ratio = 1.0;
+    }
+
+    /// The residual form's evaluations in an attempt (IDA's Newton iterates) are the stages of
+    /// the step: their smallest pivot ratio counts as [`Formulation::rhs`]'s do.
+    fn residual_stages(&self, min_pivot_ratio: f64) {
+        let mut work = self.work.borrow_mut();
+        work.min_pivot_ratio = work.min_pivot_ratio.min(min_pivot_ratio);
     }
 
     /// Near a singular position (a stage of the step with a pivot ratio below

@@ -99,8 +99,10 @@ pub struct DaeResidual {
     applied: AppliedForces,
     contacts: ContactSites,
     mass: Vec<f64>,
-    /// M⁻¹ (diagonal, 3 per body), for the Schur complement of the consistent λ.
+    /// M⁻¹ (diagonal, 3 per body), for the Schur complement S = Φ_q M⁻¹ Φ_qᵀ.
     inv_mass: Vec<f64>,
+    /// The DAE's pivot regularisation μ_k per active row ([`Dae::pivot_shift`]).
+    shift: Vec<f64>,
     baumgarte: Baumgarte,
     energy: bool,
     /// Bodies whose coordinates Q depends on: the finite-difference columns.
@@ -142,8 +144,12 @@ struct Work {
     /// The DAE's state and its derivative, for the energy rates.
     y_dae: Vec<f64>,
     dy_dae: Vec<f64>,
-    /// S = Φ_q M⁻¹ Φ_qᵀ of the active rows, for the consistent λ.
+    /// S = Φ_q M⁻¹ Φ_qᵀ of the active rows, factored with the DAE's regularised pivots at
+    /// every residual (for Δ) and for the consistent λ.
     schur: Schur,
+    /// Smallest pivot ratio of the residuals since the last
+    /// [`ResidualForm::take_min_pivot_ratio`].
+    min_pivot_ratio: f64,
 }
 
 impl DaeResidual {
@@ -199,6 +205,7 @@ impl DaeResidual {
         };
         DaeResidual {
             inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
+            shift: dae.pivot_shift().to_vec(),
             mass,
             applied: AppliedForces::from_model(&model),
             baumgarte: dae.baumgarte(),
@@ -215,6 +222,7 @@ impl DaeResidual {
                 y_dae: vec![0.0; Formulation::n_states(dae)],
                 dy_dae: vec![0.0; Formulation::n_states(dae)],
                 schur,
+                min_pivot_ratio: 1.0,
             }),
             dae: energy.then(|| dae.clone()),
             model,
@@ -262,6 +270,22 @@ impl DaeResidual {
             });
         }
         Ok(())
+    }
+
+    /// Factors A = S + diag(Δ) at the rows of `ce` with the DAE's regularised pivots
+    /// ([`Schur::factor_regularised`]); Δ is then `schur.regularisation()`.
+    fn factor(
+        &self,
+        t: f64,
+        ce: &ConstraintEval,
+        schur: &mut Schur,
+    ) -> Result<(), FormulationError> {
+        schur
+            .factor_regularised(&ce.rows, &self.active, &self.inv_mass, &self.shift)
+            .map_err(|k| FormulationError::SingularConstraints {
+                t,
+                constraint: self.constraints.row_name(&self.model, self.active[k]),
+            })
     }
 
     /// The constraint part of F_λ for active row i, Φ_q v̇ − γ + 2α Φ̇ + β² Φ, at `ce`.
@@ -354,6 +378,11 @@ impl ResidualForm for DaeResidual {
         Ok(())
     }
 
+    /// Of the regularised factors of [`ResidualForm::residual`].
+    fn take_min_pivot_ratio(&self) -> f64 {
+        std::mem::replace(&mut self.work.borrow_mut().min_pivot_ratio, 1.0)
+    }
+
     /// Everything but λ is differential.
     fn differential(&self, out: &mut [bool]) {
         let ns = self.energy_index();
@@ -381,6 +410,7 @@ impl ResidualForm for DaeResidual {
         yy[..n].copy_from_slice(&y[..n]);
         yp[..n].copy_from_slice(&dy[..n]);
         yp[n..].fill(0.0);
+        let Baumgarte { alpha, beta } = self.baumgarte;
         let mut work = self.work.borrow_mut();
         let Work {
             sin_cos,
@@ -393,22 +423,13 @@ impl ResidualForm for DaeResidual {
         sin_cos_into(q, sin_cos);
         self.forces_into(t, q, v, s, sin_cos, forces)?;
         self.constraints.evaluate_into(t, q, v, sin_cos, ce);
-        let acc = &dy[nc..2 * nc];
-        for (k, f) in forces.iter_mut().enumerate() {
-            *f -= self.mass[k] * acc[k];
-        }
-        if let Err(k) = schur.factor(&ce.rows, &self.active, &self.inv_mass, 0.0) {
-            return Err(FormulationError::SingularConstraints {
-                t,
-                constraint: self.constraints.row_name(&self.model, self.active[k]),
-            });
-        }
-        // Φ_q M⁻¹ (Q − M q̈) by row blocks, with M⁻¹ Φ_qᵀ as `factor` left it.
+        self.factor(t, ce, schur)?;
+        // b = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ) by row blocks, with M⁻¹ Φ_qᵀ as `factor` left it.
         let lambda = &mut yy[n..];
         for (i, &ri) in self.active.iter().enumerate() {
             let row = &ce.rows[ri];
             let w = &schur.weighted()[i];
-            let mut rhs = 0.0;
+            let mut rhs = -(ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri]);
             for (side, body) in [row.body_a, row.body_b].into_iter().enumerate() {
                 if let Some(b) = body {
                     for c in 0..3 {
@@ -440,11 +461,17 @@ impl ResidualForm for DaeResidual {
             sin_cos,
             forces,
             ce,
+            schur,
+            min_pivot_ratio,
             ..
         } = &mut *work;
         sin_cos_into(q, sin_cos);
         self.forces_into(t, q, v, s, sin_cos, forces)?;
         self.constraints.evaluate_into(t, q, v, sin_cos, ce);
+        // Δ of the DAE's regularised pivots at this q, and how near a singular position it is.
+        self.factor(t, ce, schur)?;
+        *min_pivot_ratio = min_pivot_ratio.min(schur.min_pivot_ratio());
+        let delta = schur.regularisation();
         for k in 0..nc {
             res[k] = dq[k] - v[k];
             res[nc + k] = self.mass[k] * acc[k] - forces[k];
@@ -459,7 +486,7 @@ impl ResidualForm for DaeResidual {
                     }
                 }
             }
-            res[n + i] = self.constraint_row(ce, r, acc);
+            res[n + i] = self.constraint_row(ce, r, acc) - delta[i] * l;
         }
         res[2 * nc..ke].copy_from_slice(&yp[2 * nc..ke]);
         Ok(())
@@ -489,6 +516,11 @@ impl ResidualForm for DaeResidual {
         sin_cos_into(q, &mut w.sin_cos);
         self.constraints
             .evaluate_into(t, q, v, &w.sin_cos, &mut w.ce);
+        // ∂F_λ/∂λ = −diag(Δ), Δ held fixed (as in the DAE's own Jacobian, `dae/jacobian.rs`).
+        self.factor(t, &w.ce, &mut w.schur)?;
+        for (i, d) in w.schur.regularisation().iter().enumerate() {
+            out[at(n + i, n + i)] = -d;
+        }
 
         // F_q = q̇ − v; F_v = M v̇ + …; F_s = ṡ
         for k in 0..nc {
