@@ -9,8 +9,12 @@
 //!     F_q = q̇ − v                                   (m/s, rad/s)
 //!     F_v = M v̇ + Φ_qᵀ λ − Q(t, q, v, s)             (N, N·m)
 //!     F_s = ṡ                                         (impact velocities are constant between events)
-//!     F_λ = Φ_q v̇ − (γ − 2α Φ̇ − β² Φ)               (m/s², rad/s²)
+//!     F_λ = Φ_q v̇ − (γ − 2α Φ̇ − β² Φ) − Δ λ         (m/s², rad/s²)
 //! ```
+//!
+//! with Δ = diag(Δ_k) the shifts of [`Dae`]'s regularised pivots at q
+//! ([`Schur::factor_regularised`], [`Schur::regularisation`]): eliminating v̇ gives
+//! (S + Δ) λ = b, the DAE's own multiplier solve, so the two forms have the same solution.
 //!
 //! Q holds gravity, the force elements and the contact forces of the clearance joints (which
 //! enter as applied forces, exactly as in [`Dae`]). The three energy integrals e of
@@ -46,12 +50,20 @@
 //! explicit methods would carry that difference. On the clearance models the drift stays ten
 //! times below its bound (`tests/constraint_violation_bound.rs`), so GGL buys nothing here.
 //!
-//! Unlike [`Dae`]'s multiplier solve (regularised pivots, `dae.rs`), this form keeps the exact
-//! row F_λ: at a singular position of the linkage its iteration matrix is singular, and IDA is
-//! not claimed through singular positions (docs/formulations.md).
+//! At a singular position of the linkage the plain iteration matrix [[c M, Φ_qᵀ], [c Φ_q, 0]]
+//! is singular; with −Δ in the λ block its Schur complement is −(S + Δ) (up to the factor
+//! (c + 2α)/c on S), regular as the DAE's. Δ_k ≈ μ_k²/d_k is below round-off of S_kk at a
+//! healthy pivot (the regular models' equations are unchanged) and ≈ μ_k where a pivot d_k
+//! collapses. Each residual factors S for it (≈ 9 % more time per IDA residual on
+//! farahan2016), and records the smallest pivot ratio it saw
+//! ([`ResidualForm::take_min_pivot_ratio`]), which IDA hands to the DAE
+//! ([`Formulation::residual_stages`]) so that its projection near singular positions acts
+//! on IDA runs too (docs/formulations.md, "The DAE at singular positions").
 //!
 //! # Jacobian
-//! J = ∂F/∂Y + c ∂F/∂Ẏ is written densely ([`ResidualForm::jacobian`]). Analytic: the
+//! J = ∂F/∂Y + c ∂F/∂Ẏ is written densely ([`ResidualForm::jacobian`]). ∂F_λ/∂λ = −Δ with Δ
+//! held fixed, as the DAE's own Jacobian does (its q-derivative is below 1e-12 except within
+//! ~1e-4 of a singular position). Analytic: the
 //! identity and mass blocks, Φ_q and Φ_qᵀ, the Baumgarte terms 2α Φ_q and β² Φ_q, and the
 //! curvature terms of revolute joints, ∂(Φ_qᵀ λ)/∂φ, ∂(Φ_q v̇)/∂φ, ∂γ/∂(φ, φ̇) and ∂Φ̇/∂φ, with
 //! u = A(φ) s the rotated arm of a joint point and d u/dφ = perp(u). Driver rows are linear (no
@@ -391,10 +403,10 @@ impl ResidualForm for DaeResidual {
         }
     }
 
-    /// λ from the first block row, Φ_qᵀ λ = Q − M q̈, multiplied by Φ_q M⁻¹:
-    /// (Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ (Q − M q̈). It holds exactly for the q̈ of [`Dae`], whose own
-    /// multiplier solve this is (S λ = Φ_q M⁻¹ Q − Φ_q q̈ with Φ_q q̈ = γ − 2αΦ̇ − β²Φ), and
-    /// it is solved the same way: [`Schur`], structure found once at [`DaeResidual::new`],
+    /// λ of [`Dae`]'s own multiplier solve, (S + Δ) λ = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ) with the
+    /// regularised pivots: with the q̈ of [`Dae`] (`dy`, from its right-hand side) both block
+    /// rows of F then vanish, near a singular position too. Solved the same way: [`Schur`],
+    /// structure found once at [`DaeResidual::new`],
     /// dense Cholesky for a few rows and the skyline for chains of many loops, instead of a
     /// dense m × m normal matrix (O(m³) per restart).
     fn consistent_values(

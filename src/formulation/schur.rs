@@ -470,7 +470,8 @@ fn regularised(
 ) -> Option<f64> {
     *min_ratio = min_ratio.min(raw / diagonal);
     let sum = raw + shift;
-    if !(sum > 0.0) {
+    // NaN fails too.
+    if sum.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     *added = shift * shift / sum;
