@@ -80,7 +80,7 @@ impl Spacing {
 /// in the distance s. Measured on the parallelogram fixtures (2026-11-26, IDA at rtol 1e-6,
 /// 1e-8, 1e-10): with 2, 4 and 10 every run keeps the branch, 36–130 projections per run,
 /// θ within 163, 122 and 129 × rtol·max|θ| of the pendulum; 4 the best.
-pub const SPACING: f64 = 4.0;
+pub(super) const SPACING: f64 = 4.0;
 
 /// Newton iterations of the position projection. The drift it removes is of the order of the
 /// local error (≤ 1e-6 L), so two iterations reach round-off; a third is a margin.
