@@ -228,11 +228,14 @@ fn parallelogram_reactions(theta: f64, omega: f64) -> ([f64; 2], [f64; 2]) {
 /// 10 s⁻¹ damps it only ~15× in the 0.28–0.45 s between passages; without the projection of
 /// the step ends near singular positions (`src/formulation/dae/projection.rs`) these runs left
 /// the parallelogram branch within two or three passages at every tolerance (measured
-/// 2026-11-26), with it none does.
-fn check_dae(fixture: &str, loops: usize) {
+/// 2026-11-26), with it none does. SUNDIALS IDA (`--features ida`) integrates the residual
+/// form (λ as unknowns, with the same regularised pivots) and projects fewer step ends of an
+/// approach (`projection::Spacing`: every projection restarts it at order 1); the same
+/// assertions hold, with the values measured for it quoted beside each bound.
+fn check_dae(fixture: &str, loops: usize, methods: &[Method]) {
     let model = load(fixture, &[]);
     let options = DaeOptions::default();
-    for method in [Method::Dop853, Method::Radau5] {
+    for &method in methods {
         for rtol in [1e-6, 1e-8, 1e-10] {
             let case = format!("{fixture}, DAE, {method}, rtol {rtol:e}");
             let mut f = Dae::new(&model, &options).unwrap_or_else(|e| panic!("{case}: {e}"));
@@ -253,8 +256,10 @@ fn check_dae(fixture: &str, loops: usize) {
             // where the ~1e-9 rad that each passage costs — the motion is free along the
             // near-null direction within ~1e-5 of the flat position, see `PIVOT_REGULARISATION`
             // — adds up over the ten passages of the chain): the bound of the generalised
-            // formulation, 300 ×, leaves a factor 5. A passage onto the crossed branch or a
-            // lost passage is an O(1) error.
+            // formulation, 300 ×, leaves a factor 5. IDA, measured (2026-11-26): 3.4–122 ×
+            // (the chain at rtol 1e-10 the larger: BDF's global error grows relative to rtol as
+            // it tightens, `tests/ida.rs`, and each projection restarts it at order 1), a factor
+            // 2.5. A passage onto the crossed branch or a lost passage is an O(1) error.
             assert!(
                 worst < bound,
                 "{case}: θ differs from the pendulum by {worst:e} rad at t = {at} s, bound {bound:e}"
@@ -262,7 +267,8 @@ fn check_dae(fixture: &str, loops: usize) {
             // The parallelogram branch after every passage: every coupler keeps φ = 0 and every
             // link turns as link0, on each stretch between two passages of the reference. The
             // crossed branch turns the coupler by 0.82 rad; here the offsets are the DAE's drift,
-            // measured (2026-11-26) ≤ 4.4e-7 rad (rtol 1e-6): 1e-5 rad leaves a factor 23.
+            // measured (2026-11-26) ≤ 4.4e-7 rad (rtol 1e-6; IDA ≤ 5e-8): 1e-5 rad leaves a
+            // factor 23.
             let flat: Vec<usize> = exact
                 .windows(2)
                 .enumerate()
@@ -288,7 +294,7 @@ fn check_dae(fixture: &str, loops: usize) {
                 }
             }
             // Energy: measured (2026-11-26) at 1.2–63 × rtol · J θ̇₀² (Radau5 at 1e-10 the
-            // larger); bound 1000 × as for the generalised formulation.
+            // larger; IDA 5.0–65 ×); bound 1000 × as for the generalised formulation.
             let energy = mechanical_energy(&model, &rec);
             let (j, _) = pendulum(loops);
             let scale = j * OMEGA0 * OMEGA0;
@@ -307,7 +313,8 @@ fn check_dae(fixture: &str, loops: usize) {
             // 20 ms of the flat position. Steps of loose tolerances stride over the approach
             // with too few points for the fit (measured 2026-11-26: DOP853 at rtol 1e-6 reports
             // 1 of 9 for the parallelogram and 0 of 10 for the chain; at rtol 1e-8, 2 of 9 and
-            // 4 of 10; Radau5 at 1e-8, 6 of 9 and 10 of 10), so all are required at rtol 1e-10
+            // 4 of 10; Radau5 at 1e-8, 6 of 9 and 10 of 10; IDA at 1e-6, 8 of 9 and 10 of 10),
+            // so all are required at rtol 1e-10
             // and none too many otherwise: a lower bound, not a count to rely on.
             let reported = f.singular_passages();
             let flat_times: Vec<f64> = flat.iter().map(|&i| rec.t[i]).collect();
@@ -439,12 +446,37 @@ fn check_reactions(case: &str, rec: &Recorder, loops: usize) {
 
 #[test]
 fn dae_passes_the_flat_positions_of_a_parallelogram() {
-    check_dae("tests/fixtures/parallelogram.toml", 1);
+    check_dae(
+        "tests/fixtures/parallelogram.toml",
+        1,
+        &[Method::Dop853, Method::Radau5],
+    );
 }
 
 #[test]
 fn dae_passes_the_flat_positions_of_a_chain_of_three_parallelograms() {
-    check_dae("tests/fixtures/parallelogram_chain3.toml", 3);
+    check_dae(
+        "tests/fixtures/parallelogram_chain3.toml",
+        3,
+        &[Method::Dop853, Method::Radau5],
+    );
+}
+
+/// IDA on the DAE's residual form through the same passages (issue 12 §2).
+#[cfg(feature = "ida")]
+#[test]
+fn ida_passes_the_flat_positions_of_a_parallelogram() {
+    check_dae("tests/fixtures/parallelogram.toml", 1, &[Method::Ida]);
+}
+
+#[cfg(feature = "ida")]
+#[test]
+fn ida_passes_the_flat_positions_of_a_chain_of_three_parallelograms() {
+    check_dae(
+        "tests/fixtures/parallelogram_chain3.toml",
+        3,
+        &[Method::Ida],
+    );
 }
 
 /// `linkdyn run` says when the DAE passed singular positions, how many, and what that means
@@ -521,9 +553,20 @@ fn the_cli_warns_when_the_dae_passed_singular_positions() {
 /// at the common times.
 #[test]
 fn the_output_grid_does_not_change_a_dae_run_through_singular_positions() {
+    check_output_grid(Method::Dop853);
+}
+
+/// The same for IDA, whose residuals count as the stages (`Formulation::residual_stages`).
+#[cfg(feature = "ida")]
+#[test]
+fn the_output_grid_does_not_change_an_ida_run_through_singular_positions() {
+    check_output_grid(Method::Ida);
+}
+
+fn check_output_grid(method: Method) {
     let model = load("tests/fixtures/parallelogram_chain3.toml", &[]);
     let options = SolverOptions::default()
-        .method(Method::Dop853)
+        .method(method)
         .rtol(1e-8)
         .atol(1e-10)
         .build()

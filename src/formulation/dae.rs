@@ -117,6 +117,8 @@ struct Work {
     /// ([`Formulation::begin_step`]; stages of rejected attempts included, evaluations for
     /// output samples not): how close the step came to a singular position.
     min_pivot_ratio: f64,
+    /// The stages of the step were a residual form's ([`Formulation::residual_stages`]: IDA).
+    residual_stages: bool,
 }
 
 /// The absolute-coordinate DAE of a model.
@@ -152,6 +154,8 @@ pub struct Dae {
     episode: passages::Episode,
     /// Step ends projected onto the constraints near singular positions ([`projection`]).
     projections: usize,
+    /// Which step ends of an IDA run's approach are projected ([`projection::Spacing`]).
+    spacing: projection::Spacing,
     work: RefCell<Work>,
 }
 
@@ -208,6 +212,7 @@ impl Dae {
             max_step_violation: 0.0,
             singular_passages: Vec::new(),
             projections: 0,
+            spacing: projection::Spacing::default(),
             episode: passages::Episode::default(),
             assembly,
             work: RefCell::new(Work {
@@ -221,6 +226,7 @@ impl Dae {
                 last_y: Vec::new(),
                 last_acc: vec![0.0; 3 * nb],
                 min_pivot_ratio: 1.0,
+                residual_stages: false,
             }),
             constraints,
         };
@@ -273,6 +279,12 @@ impl Dae {
     /// Baumgarte factors in use.
     pub fn baumgarte(&self) -> Baumgarte {
         self.baumgarte
+    }
+
+    /// The pivot regularisation μ_k of the multiplier solve per active row (see
+    /// [`PIVOT_REGULARISATION`]), for the residual form's algebraic rows.
+    pub(super) fn pivot_shift(&self) -> &[f64] {
+        &self.shift
     }
 
     /// Times (s) at which the run passed a singular position of the linkage (the constraint
@@ -860,7 +872,17 @@ impl Formulation for Dae {
     /// The stages of the step start counting towards [`Dae::singular_passages`] and the
     /// projection near singular positions.
     fn begin_step(&mut self, _t: f64, _y: &[f64]) {
-        self.work.get_mut().min_pivot_ratio = 1.0;
+        let work = self.work.get_mut();
+        work.min_pivot_ratio = 1.0;
+        work.residual_stages = false;
+    }
+
+    /// The residual form's evaluations in an attempt (IDA's Newton iterates) are the stages of
+    /// the step: their smallest pivot ratio counts as [`Formulation::rhs`]'s do.
+    fn residual_stages(&self, min_pivot_ratio: f64) {
+        let mut work = self.work.borrow_mut();
+        work.min_pivot_ratio = work.min_pivot_ratio.min(min_pivot_ratio);
+        work.residual_stages = true;
     }
 
     /// Near a singular position (a stage of the step with a pivot ratio below
@@ -879,7 +901,21 @@ impl Formulation for Dae {
         let stage_min = self.work.get_mut().min_pivot_ratio;
         let mut response = EventResponse::Continue;
         if stage_min < PROJECTION_RATIO {
-            let (r_end, projected) = self.project_state(t, y, &mut self.work.borrow_mut())?;
+            let (r_end, projected) = if self.work.get_mut().residual_stages {
+                let mut spacing = self.spacing;
+                spacing.seen = spacing.seen.min(stage_min);
+                let (r_end, projected) =
+                    self.project_state(t, y, &mut self.work.borrow_mut(), |r| spacing.wanted(r))?;
+                if projected {
+                    spacing.projected_at(r_end);
+                } else {
+                    spacing.seen = spacing.seen.min(r_end);
+                }
+                self.spacing = spacing;
+                (r_end, projected)
+            } else {
+                self.project_state(t, y, &mut self.work.borrow_mut(), |_| true)?
+            };
             self.episode.add(t, r_end, stage_min);
             if projected {
                 self.projections += 1;
@@ -887,6 +923,7 @@ impl Formulation for Dae {
             }
         } else if !self.episode.is_empty() {
             self.singular_passages.extend(self.episode.finish());
+            self.spacing = projection::Spacing::default();
         }
         let work = &mut *self.work.borrow_mut();
         self.constraints_at(t, y, work);

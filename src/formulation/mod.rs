@@ -134,6 +134,13 @@ pub trait Formulation {
     /// count. Default: nothing.
     fn begin_step(&mut self, _t: f64, _y: &[f64]) {}
 
+    /// Called by a method that integrates the residual form ([`Formulation::residual_form`];
+    /// IDA) after every attempt of a step, with the smallest pivot ratio of the constraint
+    /// solve over the residuals it evaluated ([`residual::ResidualForm::take_min_pivot_ratio`]):
+    /// those evaluations are the stages of the step, and the method never calls
+    /// [`Formulation::rhs`] during one. Default: nothing.
+    fn residual_stages(&self, _min_pivot_ratio: f64) {}
+
     /// Called by the driver at the end of every accepted step, with the new state (t, y) and
     /// the tolerances `rtol`, `atol` the step was accepted with, before the step is handed to
     /// events and samples. A formulation checks here what must hold at every step, not only at

@@ -80,6 +80,15 @@ pub trait ResidualForm {
         res: &mut [f64],
     ) -> Result<(), FormulationError>;
 
+    /// The smallest pivot ratio of the constraint solve (the DAE's
+    /// [`Schur::min_pivot_ratio`](super::schur::Schur::min_pivot_ratio): how near a singular
+    /// position) over the residuals evaluated since the last call, which starts the count
+    /// afresh; 1 where there is none. The integrator hands it to
+    /// [`Formulation::residual_stages`]. Default 1.
+    fn take_min_pivot_ratio(&self) -> f64 {
+        1.0
+    }
+
     /// J = ∂F/∂Y + c ∂F/∂Ẏ at (t, Y, Ẏ), column-major into `out` (N², overwritten). `res`
     /// holds F(t, Y, Ẏ). Returns the number of right-hand-side calls it made (for
     /// [`SolverStats::rhs_evals`](crate::solve::SolverStats::rhs_evals); 0 for an analytic one).

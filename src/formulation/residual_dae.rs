@@ -9,8 +9,12 @@
 //!     F_q = q̇ − v                                   (m/s, rad/s)
 //!     F_v = M v̇ + Φ_qᵀ λ − Q(t, q, v, s)             (N, N·m)
 //!     F_s = ṡ                                         (impact velocities are constant between events)
-//!     F_λ = Φ_q v̇ − (γ − 2α Φ̇ − β² Φ)               (m/s², rad/s²)
+//!     F_λ = Φ_q v̇ − (γ − 2α Φ̇ − β² Φ) − Δ λ         (m/s², rad/s²)
 //! ```
+//!
+//! with Δ = diag(Δ_k) the shifts of [`Dae`]'s regularised pivots at q
+//! ([`Schur::factor_regularised`], [`Schur::regularisation`]): eliminating v̇ gives
+//! (S + Δ) λ = b, the DAE's own multiplier solve, so the two forms have the same solution.
 //!
 //! Q holds gravity, the force elements and the contact forces of the clearance joints (which
 //! enter as applied forces, exactly as in [`Dae`]). The three energy integrals e of
@@ -46,12 +50,20 @@
 //! explicit methods would carry that difference. On the clearance models the drift stays ten
 //! times below its bound (`tests/constraint_violation_bound.rs`), so GGL buys nothing here.
 //!
-//! Unlike [`Dae`]'s multiplier solve (regularised pivots, `dae.rs`), this form keeps the exact
-//! row F_λ: at a singular position of the linkage its iteration matrix is singular, and IDA is
-//! not claimed through singular positions (docs/formulations.md).
+//! At a singular position of the linkage the plain iteration matrix [[c M, Φ_qᵀ], [c Φ_q, 0]]
+//! is singular; with −Δ in the λ block its Schur complement is −(S + Δ) (up to the factor
+//! (c + 2α)/c on S), regular as the DAE's. Δ_k ≈ μ_k²/d_k is below round-off of S_kk at a
+//! healthy pivot (the regular models' equations are unchanged) and ≈ μ_k where a pivot d_k
+//! collapses. Each residual factors S for it (≈ 9 % more time per IDA residual on
+//! farahan2016), and records the smallest pivot ratio it saw
+//! ([`ResidualForm::take_min_pivot_ratio`]), which IDA hands to the DAE
+//! ([`Formulation::residual_stages`]) so that its projection near singular positions acts
+//! on IDA runs too (docs/formulations.md, "The DAE at singular positions").
 //!
 //! # Jacobian
-//! J = ∂F/∂Y + c ∂F/∂Ẏ is written densely ([`ResidualForm::jacobian`]). Analytic: the
+//! J = ∂F/∂Y + c ∂F/∂Ẏ is written densely ([`ResidualForm::jacobian`]). ∂F_λ/∂λ = −Δ with Δ
+//! held fixed, as the DAE's own Jacobian does (its q-derivative is below 1e-12 except within
+//! ~1e-4 of a singular position). Analytic: the
 //! identity and mass blocks, Φ_q and Φ_qᵀ, the Baumgarte terms 2α Φ_q and β² Φ_q, and the
 //! curvature terms of revolute joints, ∂(Φ_qᵀ λ)/∂φ, ∂(Φ_q v̇)/∂φ, ∂γ/∂(φ, φ̇) and ∂Φ̇/∂φ, with
 //! u = A(φ) s the rotated arm of a joint point and d u/dφ = perp(u). Driver rows are linear (no
@@ -99,8 +111,10 @@ pub struct DaeResidual {
     applied: AppliedForces,
     contacts: ContactSites,
     mass: Vec<f64>,
-    /// M⁻¹ (diagonal, 3 per body), for the Schur complement of the consistent λ.
+    /// M⁻¹ (diagonal, 3 per body), for the Schur complement S = Φ_q M⁻¹ Φ_qᵀ.
     inv_mass: Vec<f64>,
+    /// The DAE's pivot regularisation μ_k per active row ([`Dae::pivot_shift`]).
+    shift: Vec<f64>,
     baumgarte: Baumgarte,
     energy: bool,
     /// Bodies whose coordinates Q depends on: the finite-difference columns.
@@ -142,8 +156,12 @@ struct Work {
     /// The DAE's state and its derivative, for the energy rates.
     y_dae: Vec<f64>,
     dy_dae: Vec<f64>,
-    /// S = Φ_q M⁻¹ Φ_qᵀ of the active rows, for the consistent λ.
+    /// S = Φ_q M⁻¹ Φ_qᵀ of the active rows, factored with the DAE's regularised pivots at
+    /// every residual (for Δ) and for the consistent λ.
     schur: Schur,
+    /// Smallest pivot ratio of the residuals since the last
+    /// [`ResidualForm::take_min_pivot_ratio`].
+    min_pivot_ratio: f64,
 }
 
 impl DaeResidual {
@@ -199,6 +217,7 @@ impl DaeResidual {
         };
         DaeResidual {
             inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
+            shift: dae.pivot_shift().to_vec(),
             mass,
             applied: AppliedForces::from_model(&model),
             baumgarte: dae.baumgarte(),
@@ -215,6 +234,7 @@ impl DaeResidual {
                 y_dae: vec![0.0; Formulation::n_states(dae)],
                 dy_dae: vec![0.0; Formulation::n_states(dae)],
                 schur,
+                min_pivot_ratio: 1.0,
             }),
             dae: energy.then(|| dae.clone()),
             model,
@@ -262,6 +282,22 @@ impl DaeResidual {
             });
         }
         Ok(())
+    }
+
+    /// Factors A = S + diag(Δ) at the rows of `ce` with the DAE's regularised pivots
+    /// ([`Schur::factor_regularised`]); Δ is then `schur.regularisation()`.
+    fn factor(
+        &self,
+        t: f64,
+        ce: &ConstraintEval,
+        schur: &mut Schur,
+    ) -> Result<(), FormulationError> {
+        schur
+            .factor_regularised(&ce.rows, &self.active, &self.inv_mass, &self.shift)
+            .map_err(|k| FormulationError::SingularConstraints {
+                t,
+                constraint: self.constraints.row_name(&self.model, self.active[k]),
+            })
     }
 
     /// The constraint part of F_λ for active row i, Φ_q v̇ − γ + 2α Φ̇ + β² Φ, at `ce`.
@@ -354,6 +390,11 @@ impl ResidualForm for DaeResidual {
         Ok(())
     }
 
+    /// Of the regularised factors of [`ResidualForm::residual`].
+    fn take_min_pivot_ratio(&self) -> f64 {
+        std::mem::replace(&mut self.work.borrow_mut().min_pivot_ratio, 1.0)
+    }
+
     /// Everything but λ is differential.
     fn differential(&self, out: &mut [bool]) {
         let ns = self.energy_index();
@@ -362,10 +403,10 @@ impl ResidualForm for DaeResidual {
         }
     }
 
-    /// λ from the first block row, Φ_qᵀ λ = Q − M q̈, multiplied by Φ_q M⁻¹:
-    /// (Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ (Q − M q̈). It holds exactly for the q̈ of [`Dae`], whose own
-    /// multiplier solve this is (S λ = Φ_q M⁻¹ Q − Φ_q q̈ with Φ_q q̈ = γ − 2αΦ̇ − β²Φ), and
-    /// it is solved the same way: [`Schur`], structure found once at [`DaeResidual::new`],
+    /// λ of [`Dae`]'s own multiplier solve, (S + Δ) λ = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ) with the
+    /// regularised pivots: with the q̈ of [`Dae`] (`dy`, from its right-hand side) both block
+    /// rows of F then vanish, near a singular position too. Solved the same way: [`Schur`],
+    /// structure found once at [`DaeResidual::new`],
     /// dense Cholesky for a few rows and the skyline for chains of many loops, instead of a
     /// dense m × m normal matrix (O(m³) per restart).
     fn consistent_values(
@@ -381,6 +422,7 @@ impl ResidualForm for DaeResidual {
         yy[..n].copy_from_slice(&y[..n]);
         yp[..n].copy_from_slice(&dy[..n]);
         yp[n..].fill(0.0);
+        let Baumgarte { alpha, beta } = self.baumgarte;
         let mut work = self.work.borrow_mut();
         let Work {
             sin_cos,
@@ -393,22 +435,13 @@ impl ResidualForm for DaeResidual {
         sin_cos_into(q, sin_cos);
         self.forces_into(t, q, v, s, sin_cos, forces)?;
         self.constraints.evaluate_into(t, q, v, sin_cos, ce);
-        let acc = &dy[nc..2 * nc];
-        for (k, f) in forces.iter_mut().enumerate() {
-            *f -= self.mass[k] * acc[k];
-        }
-        if let Err(k) = schur.factor(&ce.rows, &self.active, &self.inv_mass, 0.0) {
-            return Err(FormulationError::SingularConstraints {
-                t,
-                constraint: self.constraints.row_name(&self.model, self.active[k]),
-            });
-        }
-        // Φ_q M⁻¹ (Q − M q̈) by row blocks, with M⁻¹ Φ_qᵀ as `factor` left it.
+        self.factor(t, ce, schur)?;
+        // b = Φ_q M⁻¹ Q − (γ − 2αΦ̇ − β²Φ) by row blocks, with M⁻¹ Φ_qᵀ as `factor` left it.
         let lambda = &mut yy[n..];
         for (i, &ri) in self.active.iter().enumerate() {
             let row = &ce.rows[ri];
             let w = &schur.weighted()[i];
-            let mut rhs = 0.0;
+            let mut rhs = -(ce.gamma[ri] - 2.0 * alpha * ce.phi_dot[ri] - beta * beta * ce.phi[ri]);
             for (side, body) in [row.body_a, row.body_b].into_iter().enumerate() {
                 if let Some(b) = body {
                     for c in 0..3 {
@@ -440,11 +473,17 @@ impl ResidualForm for DaeResidual {
             sin_cos,
             forces,
             ce,
+            schur,
+            min_pivot_ratio,
             ..
         } = &mut *work;
         sin_cos_into(q, sin_cos);
         self.forces_into(t, q, v, s, sin_cos, forces)?;
         self.constraints.evaluate_into(t, q, v, sin_cos, ce);
+        // Δ of the DAE's regularised pivots at this q, and how near a singular position it is.
+        self.factor(t, ce, schur)?;
+        *min_pivot_ratio = min_pivot_ratio.min(schur.min_pivot_ratio());
+        let delta = schur.regularisation();
         for k in 0..nc {
             res[k] = dq[k] - v[k];
             res[nc + k] = self.mass[k] * acc[k] - forces[k];
@@ -459,7 +498,7 @@ impl ResidualForm for DaeResidual {
                     }
                 }
             }
-            res[n + i] = self.constraint_row(ce, r, acc);
+            res[n + i] = self.constraint_row(ce, r, acc) - delta[i] * l;
         }
         res[2 * nc..ke].copy_from_slice(&yp[2 * nc..ke]);
         Ok(())
@@ -489,6 +528,11 @@ impl ResidualForm for DaeResidual {
         sin_cos_into(q, &mut w.sin_cos);
         self.constraints
             .evaluate_into(t, q, v, &w.sin_cos, &mut w.ce);
+        // ∂F_λ/∂λ = −diag(Δ), Δ held fixed (as in the DAE's own Jacobian, `dae/jacobian.rs`).
+        self.factor(t, &w.ce, &mut w.schur)?;
+        for (i, d) in w.schur.regularisation().iter().enumerate() {
+            out[at(n + i, n + i)] = -d;
+        }
 
         // F_q = q̇ − v; F_v = M v̇ + …; F_s = ṡ
         for k in 0..nc {

@@ -99,6 +99,9 @@ pub struct Schur {
     /// Smallest raw pivot of the last [`Schur::factor_regularised`] over its row's diagonal
     /// entry (1 for a row independent of the earlier ones, → 0 as it becomes dependent).
     min_pivot_ratio: f64,
+    /// Δ_k of the last [`Schur::factor_regularised`] per row (caller's numbering): the factor
+    /// is that of S + diag(Δ).
+    added: Vec<f64>,
 }
 
 /// An orientation-free scale of S's diagonal for the rows `rows[active[k]]`: the part of
@@ -258,6 +261,7 @@ impl Schur {
             weighted: vec![[[0.0; 3]; 2]; m],
             diagonal,
             min_pivot_ratio: 1.0,
+            added: vec![0.0; m],
         }
     }
 
@@ -338,9 +342,10 @@ impl Schur {
     ) -> Result<(), usize> {
         self.form(rows, active, inv_mass);
         let mut min_ratio = 1.0_f64;
+        let added = &mut self.added;
         let factored = match &mut self.storage {
             Storage::Dense { a } => cholesky::factor_with(a, self.m, |j, raw, diagonal| {
-                regularised(&mut min_ratio, raw, diagonal, shift[j])
+                regularised(&mut min_ratio, raw, diagonal, shift[j], &mut added[j])
             }),
             Storage::Skyline {
                 perm,
@@ -349,7 +354,13 @@ impl Schur {
                 values,
                 ..
             } => skyline_factor_with(first, start, values, |p, raw, diagonal| {
-                regularised(&mut min_ratio, raw, diagonal, shift[perm[p]])
+                regularised(
+                    &mut min_ratio,
+                    raw,
+                    diagonal,
+                    shift[perm[p]],
+                    &mut added[perm[p]],
+                )
             })
             .map_err(|p| perm[p]),
         };
@@ -364,6 +375,14 @@ impl Schur {
     /// regularised factorisation.
     pub fn min_pivot_ratio(&self) -> f64 {
         self.min_pivot_ratio
+    }
+
+    /// The diagonal Δ (caller's numbering) that the last [`Schur::factor_regularised`] added to
+    /// S: its factor is the exact Cholesky factor of S + diag(Δ), Δ_k = μ_k²/(d_k + μ_k) with
+    /// d_k the raw pivot of row k (≈ μ_k²/d_k, below round-off of S_kk, at a healthy pivot).
+    /// Rows after a pivot that broke down keep their previous values.
+    pub fn regularisation(&self) -> &[f64] {
+        &self.added
     }
 
     /// Computes the weighted blocks M⁻¹ Φ_q,iᵀ and sums S over its structural non-zeros into
@@ -437,23 +456,26 @@ impl Schur {
     }
 }
 
-/// d + μ²/(d + μ): the pivot of [`Schur::factor_regularised`] (NaN or ≤ 0 where d ≤ −μ).
-fn regularised_pivot(d: f64, mu: f64) -> f64 {
-    let sum = d + mu;
-    if sum > 0.0 {
-        d + mu * mu / sum
-    } else {
-        f64::NAN
-    }
-}
-
 /// The pivot rule of [`Schur::factor_regularised`] for [`cholesky::factor_with`] and
 /// [`skyline_factor_with`]: the raw pivot d of a row (diagonal entry s, shift μ) becomes
-/// [`regularised_pivot`]`(d, μ)`, `None` where that is not positive; `min_ratio` keeps the
-/// smallest d/s ([`Schur::min_pivot_ratio`]).
-fn regularised(min_ratio: &mut f64, raw: f64, diagonal: f64, shift: f64) -> Option<f64> {
+/// d + μ²/(d + μ), `None` where d ≤ −μ or the result is not positive (NaN); `min_ratio` keeps
+/// the smallest d/s ([`Schur::min_pivot_ratio`]), `added` the shift μ²/(d + μ) of the row
+/// ([`Schur::regularisation`]).
+fn regularised(
+    min_ratio: &mut f64,
+    raw: f64,
+    diagonal: f64,
+    shift: f64,
+    added: &mut f64,
+) -> Option<f64> {
     *min_ratio = min_ratio.min(raw / diagonal);
-    let d = regularised_pivot(raw, shift);
+    let sum = raw + shift;
+    // NaN fails too.
+    if sum.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    *added = shift * shift / sum;
+    let d = raw + *added;
     if d.is_nan() || d <= 0.0 {
         None
     } else {

@@ -520,6 +520,9 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
                 }
             }
         }
+        // IDA's residuals are the stages of this step (rejected ones included), for the
+        // formulation's checks at the step end (the DAE's projection near singular positions).
+        f.residual_stages(form.take_min_pivot_ratio());
         stats.rhs_evals += equations.jacobian_rhs_calls;
         stats.jacobian_rhs_evals += equations.jacobian_rhs_calls;
         let formulation_error = equations.error.take();
