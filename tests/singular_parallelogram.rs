@@ -2,10 +2,11 @@
 //! positions of a parallelogram four-bar and of a chain of three parallel four-bars — the flat
 //! positions, where every link lies on the ground line and the constraint Jacobian loses one
 //! rank per loop — and stays on the parallelogram branch after every passage, follows the exact
-//! motion, and conserves energy; and so does the DAE, whose multiplier solve is rank-robust
-//! (iterated Tikhonov, `src/formulation/dae.rs`), with explicit (DOP853) and implicit (Radau5)
-//! methods, its joint reactions finite and equal to the exact ones (their limit along the
-//! motion where they are not unique).
+//! motion, and conserves energy; and so does the DAE with the models' default Baumgarte factors
+//! — its multiplier solve has regularised pivots and its step ends near a singular position are
+//! projected onto the joints (`src/formulation/dae.rs`, `dae/projection.rs`) — with explicit
+//! (DOP853), implicit (Radau5) and, with the `ida` feature, SUNDIALS IDA, its joint reactions
+//! finite and equal to the exact ones (their limit along the motion where they are not unique).
 //!
 //! Exact solution: every link turns by the same angle θ and every coupler translates, so the
 //! linkage is the pendulum J θ̈ = −G cos θ (constants in the fixtures' headers), integrated here
