@@ -21,14 +21,22 @@ const LEGEND_PX: u32 = 20;
 /// Relative margin around the data range of a fitted linear axis.
 const MARGIN: f64 = 0.03;
 
-/// Series colours (the "tab10" palette: distinguishable, also in greyscale print).
-const PALETTE: [RGBColor; 6] = [
+/// Series colours: the "tab10" palette (distinguishable, also in greyscale print), its first
+/// six in the order the figures were made with, then black and tab20's light orange, so that
+/// the twelve lines of a work–precision plot (3 formulations × 4 methods) all differ.
+const PALETTE: [RGBColor; 12] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
     RGBColor(255, 127, 14),
     RGBColor(148, 103, 189),
     RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+    RGBColor(0, 0, 0),
+    RGBColor(255, 187, 120),
 ];
 
 /// A figure file format.
