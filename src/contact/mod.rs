@@ -22,7 +22,9 @@
 //!    P_B ([`kinematics::ContactKinematics::forces`]).
 //! 6. **Events** ([`events`]): δ is the event function; the impact velocity δ̇⁽⁻⁾ is δ̇ at the
 //!    located zero where δ rises, kept for the whole contact in the formulation's state vector.
-//! 7. **Grazing guard** ([`grazing`]): while free, the step is limited so that only grazes
+//! 7. **Friction kinks** ([`kinks`]): v_t ∓ v0, v_t ∓ v1 as event functions while in contact,
+//!    so that an implicit step ends at the friction law's kinks.
+//! 8. **Grazing guard** ([`grazing`]): while free, the step is limited so that only grazes
 //!    shallower than 1e-3 c can begin and end inside one step.
 //!
 //! [`ClearanceJoint`] bundles a joint's law, friction and radii behind two calls,
@@ -57,6 +59,7 @@ pub mod events;
 pub mod friction;
 pub mod grazing;
 pub mod kinematics;
+pub mod kinks;
 pub mod laws;
 pub mod stiffness;
 

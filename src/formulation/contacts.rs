@@ -11,7 +11,7 @@ use super::FormulationError;
 use crate::contact::laws::penetration_power;
 use crate::contact::{
     CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, free_flight_max_step,
-    impact_velocity,
+    impact_velocity, kinks,
 };
 use crate::mechanics::planar::{PointState, cross, perp, point_state};
 use crate::model::{Anchor, Frame, JointId, JointKind, Model};
@@ -46,6 +46,9 @@ pub struct SiteState {
 #[derive(Debug, Clone, Default)]
 pub struct ContactSites {
     sites: Vec<ContactSite>,
+    /// The joints whose friction kinks are event functions, with their slip speeds (v0, v1)
+    /// (`contact/kinks.rs`; empty unless [`ContactSites::set_kink_events`] switched them on).
+    kinks: Vec<(usize, [f64; 2])>,
 }
 
 impl ContactSites {
@@ -65,7 +68,31 @@ impl ContactSites {
                 _ => None,
             })
             .collect();
-        ContactSites { sites }
+        ContactSites {
+            sites,
+            kinks: Vec::new(),
+        }
+    }
+
+    /// With `on`, the friction kinks (v_t = ±v0, ±v1) of every joint whose law has them are
+    /// event functions after the δ events ([`ContactSites::events_into`]); off (the default),
+    /// the δ of each joint are the only ones.
+    pub fn set_kink_events(&mut self, on: bool) {
+        self.kinks = if on {
+            self.sites
+                .iter()
+                .enumerate()
+                .filter_map(|(k, s)| kinks::friction_kinks(&s.contact.friction).map(|v| (k, v)))
+                .collect()
+        } else {
+            Vec::new()
+        };
+    }
+
+    /// Number of event functions: one δ per joint, then [`kinks::N_KINK_EVENTS`] per joint
+    /// with kink events.
+    pub fn n_events(&self) -> usize {
+        self.sites.len() + kinks::N_KINK_EVENTS * self.kinks.len()
     }
 
     /// Number of clearance joints.
@@ -200,10 +227,28 @@ impl ContactSites {
         energy
     }
 
-    /// Event functions: δ of every joint.
-    pub fn events_into(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)], g: &mut [f64]) {
-        for (k, gk) in g.iter_mut().enumerate().take(self.sites.len()) {
+    /// Event functions ([`ContactSites::n_events`] of them): δ of every joint (m), then, for
+    /// each joint with kink events, v_t ∓ v0, v_t ∓ v1 (m/s) while a contact with a stored
+    /// impact velocity (`stored`, one per joint) is open, 1 otherwise (`contact/kinks.rs`).
+    pub fn events_into(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        sin_cos: &[(f64, f64)],
+        stored: &[f64],
+        g: &mut [f64],
+    ) {
+        let (deltas, rest) = g.split_at_mut(self.sites.len().min(g.len()));
+        for (k, gk) in deltas.iter_mut().enumerate() {
             *gk = self.site_kinematics(k, q, v, sin_cos).2.delta;
+        }
+        for (&(k, speeds), gk) in self
+            .kinks
+            .iter()
+            .zip(rest.chunks_exact_mut(kinks::N_KINK_EVENTS))
+        {
+            let slip = self.site_kinematics(k, q, v, sin_cos).2.tangential_velocity;
+            kinks::kink_events(speeds, stored[k], slip, gk);
         }
     }
 

@@ -237,6 +237,16 @@ impl Dae {
         Ok(dae)
     }
 
+    /// With `on`, the kinks of each clearance joint's friction law (slip speeds ±v0, ±v1) are
+    /// event functions after the δ events while that joint's contact is open, so that Radau5
+    /// ends its steps at them (`contact/kinks.rs`); off (the default), the δ are the only
+    /// event functions. [`crate::simulation::Simulation`] switches them on for Radau5 only.
+    #[must_use]
+    pub fn friction_kink_events(mut self, on: bool) -> Self {
+        self.contacts.set_kink_events(on);
+        self
+    }
+
     /// Chooses how the Schur complement is stored and factored (default
     /// [`SchurSolver::Auto`]); the same accelerations to round-off either way.
     #[must_use]
@@ -837,20 +847,24 @@ impl Formulation for Dae {
         }
     }
 
-    /// One event per clearance joint: its penetration δ.
+    /// Events 0..n_c: the penetration δ of each clearance joint (m); after them, with
+    /// [`Dae::friction_kink_events`], four per joint whose friction law has kinks: v_t ∓ v0,
+    /// v_t ∓ v1 (m/s) while its contact is open ([`ContactSites::events_into`]).
     fn n_events(&self) -> usize {
-        self.contacts.len()
+        self.contacts.n_events()
     }
 
     fn events(&self, _t: f64, y: &[f64], g: &mut [f64]) {
         let n = self.n_coordinates();
         let sin_cos = sin_cos_of(&y[..n]);
+        let stored = &y[2 * n..2 * n + self.contacts.len()];
         self.contacts
-            .events_into(&y[..n], &y[n..2 * n], &sin_cos, g);
+            .events_into(&y[..n], &y[n..2 * n], &sin_cos, stored, g);
     }
 
     /// Rising δ (impact): store δ̇⁽⁻⁾ = δ̇ at the located instant for the whole contact.
-    /// Falling δ (separation): clear it. Either way the force law changed: restart.
+    /// Falling δ (separation): clear it. Either way the force law changed: restart. A friction
+    /// kink changes nothing: continue.
     fn apply_event(
         &mut self,
         _t: f64,

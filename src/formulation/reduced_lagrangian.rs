@@ -55,7 +55,7 @@
 //! law uses the stored δ̇⁽⁻⁾, or the current δ̇ when none is stored ([`impact_velocity`]). While
 //! free, [`Formulation::max_step`] applies the grazing guard [`free_flight_max_step`]. With a
 //! friction law, events 1–4 mark its kinks (v_t = ±v0, ±v1) while in contact, so that Radau5
-//! ends its steps there; they change nothing (`reduced_lagrangian/kinks.rs`,
+//! ends its steps there; they change nothing (`contact/kinks.rs`,
 //! [`ReducedLagrangian::friction_kink_events`]).
 //!
 //! **Requirements** (otherwise `FormulationError::Unsupported { formulation: "reduced", .. }`):
@@ -81,7 +81,7 @@
 use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
 use crate::contact::{
     CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, ContactMemory,
-    free_flight_max_step, impact_velocity,
+    free_flight_max_step, impact_velocity, kinks,
 };
 use crate::mechanics::planar::{cross, dot, perp, rotate};
 use crate::model::{
@@ -89,7 +89,6 @@ use crate::model::{
 };
 
 mod jacobian;
-mod kinks;
 
 /// Name used in `FormulationError::Unsupported`.
 const NAME: &str = "reduced";
@@ -453,7 +452,7 @@ pub struct ReducedLagrangian {
     /// Event log (bookkeeping only; the stored δ̇⁽⁻⁾ is in the state vector).
     memory: ContactMemory,
     /// Slip speeds (v0, v1) of the friction law's kinks, when they are event functions
-    /// (`kinks.rs`; on by default for a law with kinks).
+    /// (`contact/kinks.rs`; on by default for a law with kinks).
     kink_events: Option<[f64; 2]>,
     y0: [f64; 5],
 }
@@ -598,7 +597,7 @@ impl ReducedLagrangian {
 
     /// With `on` (the default), the kinks of the friction law (slip speeds ±v0, ±v1) are event
     /// functions 1–4 while in contact, so that Radau5 ends its steps at them
-    /// (`reduced_lagrangian/kinks.rs`); off, δ is the only event function. A model without
+    /// (`contact/kinks.rs`); off, δ is the only event function. A model without
     /// friction has none either way. [`crate::simulation::Simulation`] switches them off for
     /// every method but Radau5 (their steps do not change at events).
     #[must_use]
@@ -1058,7 +1057,7 @@ impl Formulation for ReducedLagrangian {
 
     /// Event 0: the penetration δ (m) of the clearance joint; events 1–4, if the friction law
     /// has kinks: the slip velocity at them, v_t ∓ v0, v_t ∓ v1 (m/s), in contact only
-    /// (`reduced_lagrangian/kinks.rs`).
+    /// (`contact/kinks.rs`).
     fn n_events(&self) -> usize {
         1 + self.kink_events.map_or(0, |_| kinks::N_KINK_EVENTS)
     }

@@ -87,13 +87,19 @@ impl Simulation {
             check_sampling(t_end, options.dt, 0)?;
         }
         let solver = options::check_solver(&options.solver)?;
+        // The friction kinks are event functions for Radau5, which ends its steps at them; the
+        // other methods' steps do not change there, and the extra located events only move
+        // their impact times by rounding, which a chaotic loose run (DOP853 at rtol 3e-4)
+        // amplifies into a different trajectory.
+        let kinks = solver.method == solve::Method::Radau5;
         let formulation = match options.formulation {
             FormulationKind::Dae => {
                 let dae_options = DaeOptions {
                     energy: options.energy,
                     ..DaeOptions::default()
                 };
-                Built::Dae(Box::new(Dae::new(model, &dae_options)?))
+                let dae = Dae::new(model, &dae_options)?.friction_kink_events(kinks);
+                Built::Dae(Box::new(dae))
             }
             FormulationKind::Reduced if options.energy => {
                 return Err(Error::settings(
@@ -102,15 +108,12 @@ impl Simulation {
                 ));
             }
             FormulationKind::Reduced => {
-                // The friction kinks are event functions for Radau5, which ends its steps at
-                // them; the other methods' steps do not change there, and the extra located
-                // events only move their impact times by rounding, which a chaotic loose run
-                // (DOP853 at rtol 3e-4) amplifies into a different trajectory.
-                let kinks = solver.method == solve::Method::Radau5;
                 let reduced = ReducedLagrangian::new(model)?.friction_kink_events(kinks);
                 Built::Reduced(Box::new(reduced))
             }
             FormulationKind::Generalized => {
+                // No kink events: its events are the DAE's at a projected state, and its
+                // `apply_event` stores that projection into y, also for a kink.
                 let dae_options = DaeOptions {
                     energy: options.energy,
                     ..DaeOptions::default()

@@ -223,40 +223,51 @@ fn simulations_and_trajectories_can_cross_threads() {
     send_sync::<RunSummary>();
 }
 
-/// The reduced formulation's friction kinks are events with Radau5 (which ends its steps at
-/// them) and not with DOP853; the impacts (event 0) and the summary's impact log do not
-/// depend on it.
+/// The friction kinks of the reduced formulation and of the DAE are events with Radau5 (which
+/// ends its steps at them) and not with DOP853; the Generalized formulation has none. The
+/// impacts (event 0, the one clearance joint) and the summary's impact log do not depend on it.
 #[test]
 fn friction_kink_events_only_with_radau5() {
     let model = load("models/farahan2016.toml", &[]);
-    let run = |method: crate::solve::Method| {
+    let run = |kind: FormulationKind, method: crate::solve::Method| {
         let solver = SolverOptions::default()
             .method(method)
             .rtol(1e-8)
             .atol(1e-11);
         let options = SimulationOptions::default()
-            .formulation(FormulationKind::Reduced)
+            .formulation(kind)
             .revs(0.25)
             .dt(1e-3)
             .solver(solver);
         let sim = Simulation::new(&model, options).unwrap_or_else(|e| panic!("{e}"));
         sim.run_to_memory().unwrap_or_else(|e| panic!("{e}"))
     };
-    let (radau, dop) = (
-        run(crate::solve::Method::Radau5),
-        run(crate::solve::Method::Dop853),
-    );
     let kinks = |t: &Trajectory| t.events.iter().filter(|e| e.index > 0).count();
-    assert!(kinks(&radau) > 0, "Radau5: no kink events");
-    assert_eq!(kinks(&dop), 0, "DOP853: kink events");
     let impacts = |t: &Trajectory| t.summary.clearance_joints[0].impacts.len();
-    assert_eq!(impacts(&radau), impacts(&dop));
+    for kind in [FormulationKind::Reduced, FormulationKind::Dae] {
+        let (radau, dop) = (
+            run(kind, crate::solve::Method::Radau5),
+            run(kind, crate::solve::Method::Dop853),
+        );
+        assert!(kinks(&radau) > 0, "{kind:?} Radau5: no kink events");
+        assert_eq!(kinks(&dop), 0, "{kind:?} DOP853: kink events");
+        assert_eq!(impacts(&radau), impacts(&dop), "{kind:?}");
+        assert_eq!(
+            impacts(&radau),
+            radau
+                .events
+                .iter()
+                .filter(|e| e.index == 0 && e.crossing == Crossing::Rising)
+                .count(),
+            "{kind:?}"
+        );
+    }
+    let generalized = run(FormulationKind::Generalized, crate::solve::Method::Radau5);
+    // Its event 1 is the repartition event (the DAE's δ come first): no kink events after it.
+    let dae_events = |t: &Trajectory| t.events.iter().filter(|e| e.index > 1).count();
     assert_eq!(
-        impacts(&radau),
-        radau
-            .events
-            .iter()
-            .filter(|e| e.index == 0 && e.crossing == Crossing::Rising)
-            .count()
+        dae_events(&generalized),
+        0,
+        "Generalized Radau5: kink events"
     );
 }

@@ -10,6 +10,10 @@
 //! just past the kink. The response is [`EventResponse::Continue`](crate::formulation::EventResponse::Continue):
 //! nothing in the state changes.
 //!
+//! Shared by the reduced formulation (events 1–4 of its one joint) and the DAE (four per
+//! clearance joint after the δ events), each switched on for Radau5 only by
+//! [`crate::simulation::Simulation`].
+//!
 //! The four functions are v_t − v0, v_t + v0, v_t − v1, v_t + v1 (each crossed once when v_t
 //! sweeps through the ramp; |v_t| − v0 would miss a pass through zero inside one step). They are
 //! active only while a contact with a stored impact velocity δ̇⁽⁻⁾ > 0 is open (y[4]): the
@@ -20,11 +24,11 @@
 use crate::model::FrictionSpec;
 
 /// Number of kink event functions when the friction law has kinks.
-pub(super) const N_KINK_EVENTS: usize = 4;
+pub const N_KINK_EVENTS: usize = 4;
 
 /// The slip speeds (v0, v1) of the kinks of `friction` (m/s), or `None` for a law without
 /// (no friction).
-pub(super) fn friction_kinks(friction: &FrictionSpec) -> Option<[f64; 2]> {
+pub fn friction_kinks(friction: &FrictionSpec) -> Option<[f64; 2]> {
     match *friction {
         FrictionSpec::Ambrosio { v0, v1, .. } | FrictionSpec::AmbrosioAsPrinted { v0, v1, .. } => {
             Some([v0, v1])
@@ -36,7 +40,7 @@ pub(super) fn friction_kinks(friction: &FrictionSpec) -> Option<[f64; 2]> {
 /// Writes the kink event functions (m/s) into `g` (length [`N_KINK_EVENTS`]) for the slip
 /// velocity `slip` and the stored impact velocity `stored`: v_t ∓ v0, v_t ∓ v1 in contact, 1
 /// (no sign change possible) otherwise.
-pub(super) fn kink_events(kinks: [f64; 2], stored: f64, slip: f64, g: &mut [f64]) {
+pub fn kink_events(kinks: [f64; 2], stored: f64, slip: f64, g: &mut [f64]) {
     let [v0, v1] = kinks;
     let in_contact = stored > 0.0;
     for (gk, v) in g.iter_mut().zip([v0, -v0, v1, -v1]) {
