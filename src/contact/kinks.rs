@@ -16,7 +16,7 @@
 //!
 //! The four functions are v_t − v0, v_t + v0, v_t − v1, v_t + v1 (each crossed once when v_t
 //! sweeps through the ramp; |v_t| − v0 would miss a pass through zero inside one step). They are
-//! active only while a contact with a stored impact velocity δ̇⁽⁻⁾ > 0 is open (y[4]): the
+//! active only while a contact with a stored impact velocity δ̇⁽⁻⁾ > 0 is open (the stored state of the joint): the
 //! friction force is zero in free flight, and the gate is constant between events, so the
 //! functions are continuous inside every step. A contact entered with δ̇⁽⁻⁾ = 0 (grazing) has no
 //! kink events; its steps are then what they were before.
