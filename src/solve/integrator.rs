@@ -71,6 +71,12 @@ impl ErrorWeights {
     pub fn new<F: Formulation + ?Sized>(f: &F, rtol: f64, atol: f64) -> Self {
         let mut mask = vec![true; f.n_states()];
         f.error_controlled(&mut mask);
+        if !mask.contains(&true) {
+            // Nothing left to control (the generalised formulation of a fully driven linkage
+            // integrates only bookkeeping): control everything, or the steps would be unbounded
+            // and the states between them mere guesses.
+            mask.fill(true);
+        }
         Self {
             rtol,
             atol,
