@@ -11,8 +11,8 @@
 mod common;
 
 use common::{load, run_formulation};
-use linkdyn::formulation::{Dae, DaeOptions, ReducedLagrangian};
-use linkdyn::solve::{Method, Recorder};
+use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs, ReducedLagrangian};
+use linkdyn::solve::{Method, Recorder, SolverStats};
 
 /// 2 turns at 250 rpm (s).
 const T_END: f64 = 2.0 * 60.0 / 250.0;
@@ -34,25 +34,24 @@ fn angle_error(a: &Recorder, b: &Recorder) -> f64 {
     worst
 }
 
-#[test]
-fn dae_radau5_reaches_1e_8_rad_in_fewer_than_35k_rhs() {
-    let model = load("models/farahan2016.toml", &[]);
-    // With the friction kinks as events, as `Simulation` builds the DAE for Radau5.
-    let mut dae = Dae::new(&model, &DaeOptions::default())
-        .unwrap_or_else(|e| panic!("{e}"))
-        .friction_kink_events(true);
-    // DOP853 at rtol 1e-12: 1.7e-11 rad from DOPRI5 at the same tolerance (docs/numerics.md).
+/// Runs `f` with Radau5 at `rtol` (atol 1e-3 rtol) and with the DOP853 reference at rtol 1e-12,
+/// checks that both see the same events in the same order and kind — impacts and separations
+/// (event 0) and the friction kinks (events 1–4) — with the 43 impacts and separations of
+/// farahan2016 at 250 rpm over 2 turns, and returns the angle error (rad) and the run's
+/// statistics.
+fn radau5_against_reference<F: Formulation + Outputs + Clone>(
+    mut f: F,
+    rtol: f64,
+) -> (f64, SolverStats) {
     let (reference, _) = run_formulation(
-        &mut dae.clone(),
+        &mut f.clone(),
         T_END,
         DT,
         Method::Dop853,
         1e-12,
         1e-12 * 1e-3,
     );
-    let (rec, stats) = run_formulation(&mut dae, T_END, DT, Method::Radau5, 5e-9, 5e-9 * 1e-3);
-    // Impacts, separations (event 0) and the friction kinks (events 1–4), in the same order
-    // and kind.
+    let (rec, stats) = run_formulation(&mut f, T_END, DT, Method::Radau5, rtol, rtol * 1e-3);
     let kinds =
         |r: &Recorder| -> Vec<_> { r.events.iter().map(|e| (e.index, e.crossing)).collect() };
     assert_eq!(
@@ -67,7 +66,18 @@ fn dae_radau5_reaches_1e_8_rad_in_fewer_than_35k_rhs() {
         impacts, 43,
         "impacts and separations of farahan2016 at 250 rpm, 2 turns"
     );
-    let err = angle_error(&rec, &reference);
+    (angle_error(&rec, &reference), stats)
+}
+
+#[test]
+fn dae_radau5_reaches_1e_8_rad_in_fewer_than_35k_rhs() {
+    let model = load("models/farahan2016.toml", &[]);
+    // With the friction kinks as events, as `Simulation` builds the DAE for Radau5.
+    let dae = Dae::new(&model, &DaeOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"))
+        .friction_kink_events(true);
+    // DOP853 at rtol 1e-12: 1.7e-11 rad from DOPRI5 at the same tolerance (docs/numerics.md).
+    let (err, stats) = radau5_against_reference(dae, 5e-9);
     // Measured (2026-11-26): 2.7e-9 rad with 33 630 RHS (Jacobians are analytic: no RHS
     // calls); margins 73 % (error) and 4 % (RHS). Both bounds are the issue's. Without the
     // kink events the same rtol gives 2.1e-8 rad (rtol 3e-9: 7.9e-9 rad with 34 924 RHS), so
@@ -82,33 +92,9 @@ fn dae_radau5_reaches_1e_8_rad_in_fewer_than_35k_rhs() {
 #[test]
 fn reduced_radau5_reaches_1e_8_rad_in_fewer_than_35k_rhs() {
     let model = load("models/farahan2016.toml", &[]);
-    let mut reduced = ReducedLagrangian::new(&model).unwrap_or_else(|e| panic!("{e}"));
+    let reduced = ReducedLagrangian::new(&model).unwrap_or_else(|e| panic!("{e}"));
     // DOP853 at rtol 1e-12: 6.6e-12 rad from DOPRI5 at the same tolerance (docs/numerics.md).
-    let (reference, _) = run_formulation(
-        &mut reduced.clone(),
-        T_END,
-        DT,
-        Method::Dop853,
-        1e-12,
-        1e-12 * 1e-3,
-    );
-    let (rec, stats) = run_formulation(&mut reduced, T_END, DT, Method::Radau5, 1e-8, 1e-8 * 1e-3);
-    // Impacts, separations and the friction kinks (events 1–4), in the same order and kind.
-    let kinds =
-        |r: &Recorder| -> Vec<_> { r.events.iter().map(|e| (e.index, e.crossing)).collect() };
-    assert_eq!(
-        kinds(&rec),
-        kinds(&reference),
-        "events: Radau5 {}, reference {}",
-        rec.events.len(),
-        reference.events.len()
-    );
-    let impacts = rec.events.iter().filter(|e| e.index == 0).count();
-    assert_eq!(
-        impacts, 43,
-        "impacts and separations of farahan2016 at 250 rpm, 2 turns"
-    );
-    let err = angle_error(&rec, &reference);
+    let (err, stats) = radau5_against_reference(reduced, 1e-8);
     // Measured (2026-11-26): 8.4e-9 rad with 31 824 RHS (analytic Jacobian: no RHS calls in
     // it). The bounds are the issue's; the margins are 16 % (error) and 9 % (RHS). Without the
     // kink events the same run gives 4.9e-8 rad, without the reset of Newton's convergence
