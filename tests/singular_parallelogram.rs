@@ -16,6 +16,7 @@
 mod common;
 use common::*;
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Generalized, Outputs};
+use linkdyn::model::Model;
 use linkdyn::solve::{Method, Recorder, SolveError, SolverOptions, integrate};
 
 /// Link length L (m), link and coupler masses (kg), gravity (m/s²), as in the fixtures (the
@@ -100,12 +101,55 @@ fn run<F: Formulation + Outputs>(
     Ok(rec)
 }
 
-/// Flat positions passed by θ over the run: crossings of sin θ = 0.
-fn passages(theta: &[f64]) -> usize {
+/// The samples just after each flat position θ passes (crossings of sin θ = 0).
+fn flat_positions(theta: &[f64]) -> Vec<usize> {
     theta
         .windows(2)
-        .filter(|w| (w[0] / std::f64::consts::PI).floor() != (w[1] / std::f64::consts::PI).floor())
-        .count()
+        .enumerate()
+        .filter(|(_, w)| {
+            (w[0] / std::f64::consts::PI).floor() != (w[1] / std::f64::consts::PI).floor()
+        })
+        .map(|(i, _)| i + 1)
+        .collect()
+}
+
+/// Flat positions passed by θ over the run.
+fn passages(theta: &[f64]) -> usize {
+    flat_positions(theta).len()
+}
+
+/// Asserts that link0's angle follows the pendulum `exact` within 300 × rtol · max|θ| (the
+/// callers give the measured factors).
+fn assert_follows_pendulum(case: &str, rec: &Recorder, exact: &[f64], rtol: f64) {
+    let theta = col(rec, "link0.phi");
+    let theta_max = exact.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let bound = 300.0 * rtol * theta_max;
+    let (worst, at) = theta
+        .iter()
+        .zip(exact)
+        .zip(&rec.t)
+        .map(|((a, b), t)| ((a - b).abs(), *t))
+        .fold((0.0, 0.0), |m, x| if x.0 > m.0 { x } else { m });
+    assert!(
+        worst < bound,
+        "{case}: θ differs from the pendulum by {worst:e} rad at t = {at} s, bound {bound:e}"
+    );
+}
+
+/// Asserts that T + U stays within 1000 × rtol · J θ̇₀² of its initial value (the callers give
+/// the measured factors).
+fn assert_energy_conserved(case: &str, model: &Model, rec: &Recorder, loops: usize, rtol: f64) {
+    let energy = mechanical_energy(model, rec);
+    let (j, _) = pendulum(loops);
+    let scale = j * OMEGA0 * OMEGA0;
+    let drift = energy
+        .iter()
+        .fold(0.0_f64, |m, e| m.max((e - energy[0]).abs()));
+    assert!(
+        drift < 1000.0 * rtol * scale,
+        "{case}: energy drifts by {drift:e} J, bound {:e} J",
+        1000.0 * rtol * scale
+    );
 }
 
 fn check_generalized(fixture: &str, loops: usize) {
@@ -124,18 +168,7 @@ fn check_generalized(fixture: &str, loops: usize) {
         // larger factors at rtol 1e-10, where a stage that lands within ~1e-8 rad of a flat
         // position computes B and c to a relative accuracy ε/s only); 300 × leaves a factor 4.
         // A wrong branch or a lost passage is an O(1) error.
-        let theta_max = exact.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-        let bound = 300.0 * rtol * theta_max;
-        let (worst, at) = theta
-            .iter()
-            .zip(&exact)
-            .zip(&rec.t)
-            .map(|((a, b), t)| ((a - b).abs(), *t))
-            .fold((0.0, 0.0), |m, x| if x.0 > m.0 { x } else { m });
-        assert!(
-            worst < bound,
-            "{case}: θ differs from the pendulum by {worst:e} rad at t = {at} s, bound {bound:e}"
-        );
+        assert_follows_pendulum(&case, &rec, &exact, rtol);
         // The parallelogram branch: every coupler keeps φ = 0 and every link turns as link0.
         // The crossed branch differs by O(1) rad right after a passage; 1e-9 rad is a thousand
         // times the projection's tolerance (1e-12 L on links of 0.4 m).
@@ -158,17 +191,7 @@ fn check_generalized(fixture: &str, loops: usize) {
         // Energy: T + U is conserved; the error is the integration error of the velocities
         // over the run, measured (2026-11-23) at 2–71 × rtol · J θ̇₀² (the larger at rtol
         // 1e-10, for the reason given for θ); bound 1000 ×.
-        let energy = mechanical_energy(&model, &rec);
-        let (j, _) = pendulum(loops);
-        let scale = j * OMEGA0 * OMEGA0;
-        let drift = energy
-            .iter()
-            .fold(0.0_f64, |m, e| m.max((e - energy[0]).abs()));
-        assert!(
-            drift < 1000.0 * rtol * scale,
-            "{case}: energy drifts by {drift:e} J, bound {:e} J",
-            1000.0 * rtol * scale
-        );
+        assert_energy_conserved(&case, &model, &rec, loops, rtol);
         // No drift by construction: the projection's residual at every sample and step end.
         assert!(
             rec.max_constraint_violation < 1e-11,
@@ -245,14 +268,6 @@ fn check_dae(fixture: &str, loops: usize, methods: &[Method]) {
             let exact = reference(loops, &rec.t, 1e-5);
             let n = passages(&theta);
             assert!(n >= 9, "{case}: only {n} flat positions passed");
-            let theta_max = exact.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            let bound = 300.0 * rtol * theta_max;
-            let (worst, at) = theta
-                .iter()
-                .zip(&exact)
-                .zip(&rec.t)
-                .map(|((a, b), t)| ((a - b).abs(), *t))
-                .fold((0.0, 0.0), |m, x| if x.0 > m.0 { x } else { m });
             // Measured (2026-11-26) at 0.08–59 × rtol · max|θ| (the larger at rtol 1e-10,
             // where the ~1e-9 rad that each passage costs — the motion is free along the
             // near-null direction within ~1e-5 of the flat position, see `PIVOT_REGULARISATION`
@@ -261,23 +276,13 @@ fn check_dae(fixture: &str, loops: usize, methods: &[Method]) {
             // (the chain at rtol 1e-10 the larger: BDF's global error grows relative to rtol as
             // it tightens, `tests/ida.rs`, and each projection restarts it at order 1), a factor
             // 2.5. A passage onto the crossed branch or a lost passage is an O(1) error.
-            assert!(
-                worst < bound,
-                "{case}: θ differs from the pendulum by {worst:e} rad at t = {at} s, bound {bound:e}"
-            );
+            assert_follows_pendulum(&case, &rec, &exact, rtol);
             // The parallelogram branch after every passage: every coupler keeps φ = 0 and every
             // link turns as link0, on each stretch between two passages of the reference. The
             // crossed branch turns the coupler by 0.82 rad; here the offsets are the DAE's drift,
             // measured (2026-11-26) ≤ 4.4e-7 rad (rtol 1e-6; IDA ≤ 5e-8): 1e-5 rad leaves a
             // factor 23.
-            let flat: Vec<usize> = exact
-                .windows(2)
-                .enumerate()
-                .filter(|(_, w)| {
-                    (w[0] / std::f64::consts::PI).floor() != (w[1] / std::f64::consts::PI).floor()
-                })
-                .map(|(i, _)| i + 1)
-                .collect();
+            let flat = flat_positions(&exact);
             for k in 1..=loops {
                 let coupler = col(&rec, &format!("coupler{k}.phi"));
                 let link = col(&rec, &format!("link{k}.phi"));
@@ -296,17 +301,7 @@ fn check_dae(fixture: &str, loops: usize, methods: &[Method]) {
             }
             // Energy: measured (2026-11-26) at 1.2–63 × rtol · J θ̇₀² (Radau5 at 1e-10 the
             // larger; IDA 5.0–65 ×); bound 1000 × as for the generalised formulation.
-            let energy = mechanical_energy(&model, &rec);
-            let (j, _) = pendulum(loops);
-            let scale = j * OMEGA0 * OMEGA0;
-            let drift = energy
-                .iter()
-                .fold(0.0_f64, |m, e| m.max((e - energy[0]).abs()));
-            assert!(
-                drift < 1000.0 * rtol * scale,
-                "{case}: energy drifts by {drift:e} J, bound {:e} J",
-                1000.0 * rtol * scale
-            );
+            assert_energy_conserved(&case, &model, &rec, loops, rtol);
             check_reactions(&case, &rec, loops);
             // The DAE reports the passages (`Dae::singular_passages`: the smallest pivot ratio
             // of its multiplier solve, seen at a stage or fitted over the step ends of the
