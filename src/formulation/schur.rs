@@ -29,7 +29,7 @@
 //!    equations, *The Computer Journal* 9 (1966) 281–285.
 
 use super::cholesky;
-use crate::mechanics::constraints::ConstraintRow;
+use crate::mechanics::constraints::{ConstraintRow, pairs_on_common_bodies};
 use std::collections::VecDeque;
 
 /// Number of rows up to which [`SchurSolver::Auto`] takes the dense Cholesky. Measured on chains
@@ -118,7 +118,8 @@ pub fn translational_diagonal(
         .iter()
         .map(|&r| {
             let part = |cs: &[usize]| -> f64 {
-                blocks(&rows[r])
+                rows[r]
+                    .blocks()
                     .into_iter()
                     .filter_map(|(body, jac)| body.map(|b| (b, jac)))
                     .map(|(b, jac)| {
@@ -138,43 +139,13 @@ pub fn translational_diagonal(
         .collect()
 }
 
-/// The two (body, block) pairs of a row.
-fn blocks(row: &ConstraintRow) -> [(Option<usize>, &[f64; 3]); 2] {
-    [(row.body_a, &row.jac_a), (row.body_b, &row.jac_b)]
-}
-
 impl Schur {
     /// Prepares S for the rows `rows[active[k]]`, k = 0 … m − 1 (their bodies are read; the
     /// Jacobian values are not): finds the structural non-zeros and, for the skyline, the
     /// renumbering and the envelope.
     pub fn new(rows: &[ConstraintRow], active: &[usize], solver: SchurSolver) -> Self {
         let m = active.len();
-        let bodies = |k: usize| [rows[active[k]].body_a, rows[active[k]].body_b];
-        // Rows touching each body, to find the pairs without an m² scan.
-        let n_bodies = active
-            .iter()
-            .flat_map(|&r| [rows[r].body_a, rows[r].body_b])
-            .flatten()
-            .max()
-            .map_or(0, |b| b + 1);
-        let mut on_body: Vec<Vec<(usize, u8)>> = vec![Vec::new(); n_bodies];
-        for k in 0..m {
-            for (side, b) in bodies(k).into_iter().enumerate() {
-                if let Some(b) = b {
-                    on_body[b].push((k, side as u8));
-                }
-            }
-        }
-        let mut pairs: Vec<(usize, usize, u8, u8)> = Vec::new();
-        for list in &on_body {
-            for &(i, side_i) in list {
-                for &(j, side_j) in list {
-                    if j <= i {
-                        pairs.push((i, j, side_i, side_j));
-                    }
-                }
-            }
-        }
+        let mut pairs = pairs_on_common_bodies(active.iter().map(|&r| &rows[r]));
         pairs.sort_unstable();
         let mut adjacency: Vec<Vec<usize>> = vec![Vec::new(); m];
         for &(i, j, _, _) in &pairs {
@@ -390,7 +361,7 @@ impl Schur {
     fn form(&mut self, rows: &[ConstraintRow], active: &[usize], inv_mass: &[f64]) {
         debug_assert_eq!(active.len(), self.m, "the rows given at construction");
         for (w, &r) in self.weighted.iter_mut().zip(active) {
-            for (side, (body, jac)) in blocks(&rows[r]).into_iter().enumerate() {
+            for (side, (body, jac)) in rows[r].blocks().into_iter().enumerate() {
                 w[side] = match body {
                     Some(b) => [
                         jac[0] * inv_mass[3 * b],

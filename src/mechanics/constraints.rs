@@ -54,6 +54,12 @@ pub struct ConstraintRow {
 }
 
 impl ConstraintRow {
+    /// The row's two blocks with their bodies: (body a, ∂Φ/∂q_a), (body b, ∂Φ/∂q_b).
+    #[inline]
+    pub fn blocks(&self) -> [(Option<usize>, &[f64; 3]); 2] {
+        [(self.body_a, &self.jac_a), (self.body_b, &self.jac_b)]
+    }
+
     /// Φ_q v for this row.
     #[inline]
     pub fn dot_velocity(&self, v: &[f64]) -> f64 {
@@ -70,6 +76,39 @@ impl ConstraintRow {
         }
         s
     }
+}
+
+/// The pairs of blocks of `rows` that act on a common body, as (i, j, side_i, side_j) with
+/// i ≥ j the rows' positions in the iteration and side 0 = body a, 1 = body b of the row: the
+/// structural non-zeros of Φ_q W Φ_qᵀ for any block-diagonal W (the DAE's S = Φ_q M⁻¹ Φ_qᵀ, the
+/// assembly's G = Φ_q Φ_qᵀ). Found through the rows on each body, without an m² scan; unsorted.
+pub fn pairs_on_common_bodies<'a>(
+    rows: impl IntoIterator<Item = &'a ConstraintRow>,
+) -> Vec<(usize, usize, u8, u8)> {
+    let bodies: Vec<[Option<usize>; 2]> = rows
+        .into_iter()
+        .map(|row| [row.body_a, row.body_b])
+        .collect();
+    let n_bodies = bodies.iter().flatten().flatten().max().map_or(0, |b| b + 1);
+    let mut on_body: Vec<Vec<(usize, u8)>> = vec![Vec::new(); n_bodies];
+    for (k, pair) in bodies.iter().enumerate() {
+        for (side, b) in pair.iter().enumerate() {
+            if let Some(b) = b {
+                on_body[*b].push((k, side as u8));
+            }
+        }
+    }
+    let mut pairs = Vec::new();
+    for list in &on_body {
+        for &(i, side_i) in list {
+            for &(j, side_j) in list {
+                if j <= i {
+                    pairs.push((i, j, side_i, side_j));
+                }
+            }
+        }
+    }
+    pairs
 }
 
 #[derive(Debug, Clone)]

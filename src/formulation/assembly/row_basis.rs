@@ -45,7 +45,7 @@
 //!    corrected semi-normal equations) and §1.2.5 (pseudo-inverse of a product).
 
 use super::super::cholesky;
-use crate::mechanics::constraints::ConstraintRow;
+use crate::mechanics::constraints::{ConstraintRow, pairs_on_common_bodies};
 
 /// Relative distance (of a row from the span of the rows before it) below which the pivot is
 /// re-checked by the exact rule: a thousand times the rank tolerance, so that the pivot's
@@ -118,36 +118,13 @@ struct Fits {
     dx: Vec<f64>,
 }
 
-/// The two (body, block) pairs of a row.
-fn blocks(row: &ConstraintRow) -> [(Option<usize>, &[f64; 3]); 2] {
-    [(row.body_a, &row.jac_a), (row.body_b, &row.jac_b)]
-}
-
 impl RowBasis {
     /// Prepares the factor for `rows` (only which bodies each touches is read) over `n`
     /// coordinates: the structure of G, its elimination tree and the pattern of L.
     pub fn new(rows: &[ConstraintRow], n: usize) -> Self {
         let m = rows.len();
-        let n_bodies = n / 3;
-        let mut on_body: Vec<Vec<(usize, u8)>> = vec![Vec::new(); n_bodies];
-        for (k, row) in rows.iter().enumerate() {
-            for (side, (body, _)) in blocks(row).into_iter().enumerate() {
-                if let Some(b) = body.filter(|&b| b < n_bodies) {
-                    on_body[b].push((k, side as u8));
-                }
-            }
-        }
-        // Pairs (i ≥ j) of blocks on one body, sorted by row then column.
-        let mut pairs: Vec<(usize, usize, u8, u8)> = Vec::new();
-        for list in &on_body {
-            for &(i, side_i) in list {
-                for &(j, side_j) in list {
-                    if j <= i {
-                        pairs.push((i, j, side_i, side_j));
-                    }
-                }
-            }
-        }
+        // Pairs (i ≥ j) of blocks on one body, sorted below by row then column.
+        let mut pairs = pairs_on_common_bodies(rows);
         // Every diagonal present, even for a row that touches only ground (G_kk = 0).
         for k in 0..m {
             pairs.push((k, k, u8::MAX, u8::MAX));
@@ -296,8 +273,8 @@ impl RowBasis {
         self.fits.ready = false;
         self.g_values.fill(0.0);
         for c in &self.couplings {
-            let a = blocks(&rows[c.i])[c.side_i as usize].1;
-            let b = blocks(&rows[c.j])[c.side_j as usize].1;
+            let a = rows[c.i].blocks()[c.side_i as usize].1;
+            let b = rows[c.j].blocks()[c.side_j as usize].1;
             self.g_values[c.pos] += a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         }
         for k in 0..self.m {
@@ -587,7 +564,7 @@ fn solve_leading(
 
 /// x += l · (row of Φ_q)ᵀ.
 fn scatter(row: &ConstraintRow, l: f64, x: &mut [f64]) {
-    for (body, jac) in blocks(row) {
+    for (body, jac) in row.blocks() {
         if let Some(b) = body {
             for c in 0..3 {
                 x[3 * b + c] += jac[c] * l;

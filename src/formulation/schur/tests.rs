@@ -41,7 +41,7 @@ fn schur_times(rows: &[ConstraintRow], inv_mass: &[f64], x: &[f64]) -> Vec<f64> 
     let n = inv_mass.len();
     let mut force = vec![0.0; n];
     for (row, xi) in rows.iter().zip(x) {
-        for (body, jac) in blocks(row) {
+        for (body, jac) in row.blocks() {
             if let Some(b) = body {
                 for c in 0..3 {
                     force[3 * b + c] += jac[c] * xi;
@@ -51,7 +51,7 @@ fn schur_times(rows: &[ConstraintRow], inv_mass: &[f64], x: &[f64]) -> Vec<f64> 
     }
     rows.iter()
         .map(|row| {
-            blocks(row)
+            row.blocks()
                 .iter()
                 .filter_map(|(body, jac)| {
                     body.map(|b| {
