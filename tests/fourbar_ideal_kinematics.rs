@@ -2,7 +2,7 @@
 //! and the driver torque against the power balance M2 ω = d(T + U)/dt.
 
 mod common;
-use common::fourbar::{closed_form, unwrap_near};
+use common::fourbar::{COLUMNS, assert_closed_form, closed_form};
 use common::*;
 use linkdyn::solve::Method;
 use std::f64::consts::PI;
@@ -33,17 +33,7 @@ fn dae_matches_loop_closure_over_two_turns() {
     let omega = 250.0 * PI / 30.0;
     let t_end = 2.0 * 2.0 * PI / omega;
     let (rec, _) = run_dae(&model, t_end, 1e-3, Method::Dop853, 1e-12, 1e-14);
-    let cols: Vec<Vec<f64>> = [
-        "coupler.phi",
-        "rocker.phi",
-        "coupler.omega",
-        "rocker.omega",
-        "coupler.alpha",
-        "rocker.alpha",
-    ]
-    .iter()
-    .map(|c| col(&rec, c))
-    .collect();
+    let cols: Vec<Vec<f64>> = COLUMNS.iter().map(|c| col(&rec, c)).collect();
     // Check values at t = 0 (the assembly) to the reference's printed digits.
     assert!(
         (cols[0][0].to_degrees() - 36.5795).abs() < 5e-5,
@@ -65,29 +55,7 @@ fn dae_matches_loop_closure_over_two_turns() {
         "theta4'(0) = {}",
         cols[3][0]
     );
-    let names = [
-        "theta3", "theta4", "theta3'", "theta4'", "theta3''", "theta4''",
-    ];
-    // Scales turn the 1e-9 into a relative bound for rates (~12 rad/s) and accelerations
-    // (~10³ rad/s²), whose closed forms amplify the angle error by ω and ω².
-    let scales = [1.0, 1.0, 12.0, 12.0, 1000.0, 1000.0];
-    for (i, t) in rec.t.iter().enumerate() {
-        let exact = closed_form(omega * t, omega);
-        for k in 0..6 {
-            let value = if k < 2 {
-                unwrap_near(exact[k], cols[k][i])
-            } else {
-                exact[k]
-            };
-            let err = (cols[k][i] - value).abs() / scales[k];
-            assert!(
-                err < 1e-9,
-                "{} at t = {t}: dae {} vs closed form {value} (scaled error {err:e})",
-                names[k],
-                cols[k][i]
-            );
-        }
-    }
+    assert_closed_form("fourbar_ideal, dae", &rec, omega, 1e-9);
 }
 
 #[test]

@@ -12,7 +12,7 @@
 #![cfg(feature = "ida")]
 
 mod common;
-use common::fourbar::{closed_form, unwrap_near};
+use common::fourbar::assert_closed_form;
 use common::*;
 use linkdyn::analysis::compare;
 use linkdyn::formulation::{Dae, DaeOptions, Generalized, ReducedLagrangian};
@@ -156,36 +156,7 @@ fn ida_on_the_generalized_ideal_fourbar_matches_the_closed_form() {
     let omega = 250.0 * std::f64::consts::PI / 30.0;
     let t_end = 2.0 * 2.0 * std::f64::consts::PI / omega;
     let rec = run("generalized", &model, Method::Ida, RTOL, t_end, 1e-3);
-    let names = [
-        "coupler.phi",
-        "rocker.phi",
-        "coupler.omega",
-        "rocker.omega",
-        "coupler.alpha",
-        "rocker.alpha",
-    ];
-    let cols: Vec<Vec<f64>> = names.iter().map(|c| col(&rec, c)).collect();
-    // Rates (~12 rad/s) and accelerations (~10³ rad/s²) amplify the angle error by ω and ω².
-    let scales = [1.0, 1.0, 12.0, 12.0, 1000.0, 1000.0];
-    let mut worst: f64 = 0.0;
-    for (i, t) in rec.t.iter().enumerate() {
-        let exact = closed_form(omega * t, omega);
-        for k in 0..6 {
-            let value = if k < 2 {
-                unwrap_near(exact[k], cols[k][i])
-            } else {
-                exact[k]
-            };
-            let err = (cols[k][i] - value).abs() / scales[k];
-            worst = worst.max(err);
-            assert!(
-                err < 1e-11,
-                "fourbar_ideal, generalized, IDA: {} at t = {t}: {} vs closed form {value} (scaled error {err:e}, bound 1e-11)",
-                names[k],
-                cols[k][i]
-            );
-        }
-    }
+    let worst = assert_closed_form("fourbar_ideal, generalized, IDA", &rec, omega, 1e-11);
     println!("fourbar_ideal, generalized, IDA: largest scaled error {worst:e}");
     assert!(rec.len() > 400, "{} samples over two turns", rec.len());
 }

@@ -44,3 +44,49 @@ pub fn closed_form(theta2: f64, omega: f64) -> [f64; 6] {
 pub fn unwrap_near(angle: f64, reference: f64) -> f64 {
     angle + 2.0 * PI * ((reference - angle) / (2.0 * PI)).round()
 }
+
+/// Output columns of the coupler and rocker in the order of [`closed_form`].
+pub const COLUMNS: [&str; 6] = [
+    "coupler.phi",
+    "rocker.phi",
+    "coupler.omega",
+    "rocker.omega",
+    "coupler.alpha",
+    "rocker.alpha",
+];
+
+/// Scales that turn a bound on the angles into one on the rates (~12 rad/s) and accelerations
+/// (~10³ rad/s²), whose closed forms amplify the angle error by ω and ω².
+pub const SCALES: [f64; 6] = [1.0, 1.0, 12.0, 12.0, 1000.0, 1000.0];
+
+/// Asserts that every sample of `rec` (a run of `models/fourbar_ideal.toml` at crank speed
+/// `omega`, crank angle ωt) has the closed form's angles, rates and accelerations within
+/// `bound` after [`SCALES`]; returns the largest scaled error.
+pub fn assert_closed_form(
+    label: &str,
+    rec: &linkdyn::solve::Recorder,
+    omega: f64,
+    bound: f64,
+) -> f64 {
+    let cols: Vec<Vec<f64>> = COLUMNS.iter().map(|c| super::col(rec, c)).collect();
+    let mut worst: f64 = 0.0;
+    for (i, t) in rec.t.iter().enumerate() {
+        let exact = closed_form(omega * t, omega);
+        for k in 0..6 {
+            let value = if k < 2 {
+                unwrap_near(exact[k], cols[k][i])
+            } else {
+                exact[k]
+            };
+            let err = (cols[k][i] - value).abs() / SCALES[k];
+            worst = worst.max(err);
+            assert!(
+                err < bound,
+                "{label}: {} at t = {t}: {} vs closed form {value} (scaled error {err:e}, bound {bound:e})",
+                COLUMNS[k],
+                cols[k][i]
+            );
+        }
+    }
+    worst
+}
