@@ -147,8 +147,8 @@ fn ida_on_the_generalized_formulation_at_3500_rpm() {
 /// carries the projection's warm start and the partition flags (none error-controlled, so IDA
 /// weights them all, `solve::ida`), and the angles, rates and accelerations are the closed
 /// form's to Newton's tolerance (1e-12 of the linkage's length scale) whatever the steps.
-/// Bound 1e-11, ten times that tolerance (errors scaled as in
-/// `tests/fourbar_ideal_kinematics.rs`); measured 2026-11-25: 1.7e-15 (Newton's last step
+/// Bound 1e-11, ten times that tolerance (errors scaled by
+/// `common::fourbar::SCALES`); measured 2026-11-25: 1.7e-15 (Newton's last step
 /// lands at round-off). Without IDA's fallback weights the run failed at t = 0.42 s.
 #[test]
 fn ida_on_the_generalized_ideal_fourbar_matches_the_closed_form() {
