@@ -58,11 +58,9 @@
 //!   Newton iteration its convergence test (IDA never evaluates the residual at the corrected
 //!   state), the step doubles each time, and the warm start of the projection drifts until
 //!   Newton cannot recover the coordinates from it (on the ideal four-bar: radians off after
-//!   0.26 s). There IDA weights every state instead, so its steps resolve the warm start
-//!   (smooth kinematics) to the tolerance (`tests/ida_formulations.rs`: the ideal four-bar's
-//!   closed form to 2e-15). The explicit pairs and Radau5 keep the driver's rule, an empty
-//!   norm: they evaluate the equations at every stage, so a bad warm start fails a stage and
-//!   shrinks the step.
+//!   0.26 s). [`ErrorWeights::new`] therefore controls every state of such a formulation, for
+//!   every method, so that the steps resolve the warm start (smooth kinematics) to the
+//!   tolerance (`tests/ida_formulations.rs`: the ideal four-bar's closed form to 2e-15).
 //! * Fixed steps (`--fixed-step`) are not available: IDA always controls its error.
 //!
 //! # References
@@ -180,11 +178,7 @@ impl Problem for Equations<'_> {
             *w = if i >= self.n {
                 // λ: out of the error test and the Newton test (see the module documentation).
                 0.0
-            } else if self.weights.is_empty()
-                || self.weights.mask.get(i).copied().unwrap_or(0.0) > 0.0
-            {
-                // With no controlled state at all, every state is weighted (see the module
-                // documentation).
+            } else if self.weights.mask.get(i).copied().unwrap_or(0.0) > 0.0 {
                 self.scale / (rtol * y.abs() + atol)
             } else {
                 0.0
@@ -472,13 +466,8 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
                 &ode_form
             }
         };
-        // Controlled states (all of them where the formulation controls none).
-        let m = if self.weights.is_empty() {
-            self.n_s
-        } else {
-            self.weights.len()
-        }
-        .max(1);
+        // Controlled states (all of them where the formulation marks none: `ErrorWeights::new`).
+        let m = self.weights.len().max(1);
         let mut equations = Equations {
             form,
             weights: &self.weights,
