@@ -917,14 +917,10 @@ impl Formulation for Dae {
         if stage_min < PROJECTION_RATIO {
             let (r_end, projected) = if self.work.get_mut().residual_stages {
                 let mut spacing = self.spacing;
-                spacing.seen = spacing.seen.min(stage_min);
+                spacing.saw(stage_min);
                 let (r_end, projected) =
                     self.project_state(t, y, &mut self.work.borrow_mut(), |r| spacing.wanted(r))?;
-                if projected {
-                    spacing.projected_at(r_end);
-                } else {
-                    spacing.seen = spacing.seen.min(r_end);
-                }
+                spacing.ended(r_end, projected);
                 self.spacing = spacing;
                 (r_end, projected)
             } else {

@@ -50,7 +50,7 @@ pub(super) struct Spacing {
     /// Pivot ratio at the last projection of the approach (∞: none yet).
     last: f64,
     /// Smallest ratio seen since (stages and step ends).
-    pub seen: f64,
+    seen: f64,
 }
 
 impl Default for Spacing {
@@ -69,10 +69,19 @@ impl Spacing {
         self.last == f64::INFINITY || self.last >= SPACING * low || r >= SPACING * self.last
     }
 
-    /// A step end with ratio r was projected.
-    pub fn projected_at(&mut self, r: f64) {
-        self.last = r;
-        self.seen = r;
+    /// A stage of the step had the pivot ratio r.
+    pub fn saw(&mut self, r: f64) {
+        self.seen = self.seen.min(r);
+    }
+
+    /// The step ended with the pivot ratio r, projected or not.
+    pub fn ended(&mut self, r: f64, projected: bool) {
+        if projected {
+            self.last = r;
+            self.seen = r;
+        } else {
+            self.saw(r);
+        }
     }
 }
 
