@@ -128,6 +128,25 @@ impl ContactKinematics {
         perp(self.normal)
     }
 
+    /// Penetration acceleration δ̈ (m/s²) for the relative acceleration ë = r̈_J − r̈_B of the
+    /// two centres (m/s²). From δ̇ = ė·n and ṅ = t (t·ė)/|e|:
+    ///
+    /// ```text
+    ///     δ̈ = n·ë + (t·ė)²/|e| = n·ë + (|ė|² − δ̇²)/|e|
+    /// ```
+    ///
+    /// With the journal centred to rounding noise (n undefined, the joint free) the second term
+    /// is left out.
+    pub fn delta_ddot(&self, e_ddot: [f64; 2]) -> f64 {
+        let along = dot(e_ddot, self.normal);
+        if self.distance > 1e-12 * (self.bearing_radius - self.journal_radius) {
+            let slip = dot(self.e_dot, self.tangent());
+            along + slip * slip / self.distance
+        } else {
+            along
+        }
+    }
+
     /// |ė| (m/s): the relative speed of the two centres.
     pub fn relative_speed(&self) -> f64 {
         self.e_dot[0].hypot(self.e_dot[1])
@@ -268,6 +287,32 @@ mod tests {
                 (fd - k0.delta_dot).abs() < 1e-9,
                 "t = {t}: δ̇ = {:e}, finite difference {fd:e}",
                 k0.delta_dot
+            );
+        }
+    }
+
+    /// δ̈ against central differences of δ̇(t), with ë from central differences of ė(t).
+    /// Tolerance 1e-6 m/s²: both differences carry O(h²) ≈ 1e-10·|δ⁗| errors (δ⁗ ≲ 1e2 m/s⁴
+    /// here) and rounding ~1e-16·|ė|/h ≈ 1e-11 m/s².
+    #[test]
+    fn delta_ddot_matches_finite_difference() {
+        let h = 1e-5;
+        for k in 0..20 {
+            let t = 0.05 * f64::from(k);
+            let kin = |t| {
+                let (b, j, _, _) = motion(t);
+                clearance_kinematics(&b, &j, R_J, C)
+            };
+            let (k_plus, k_minus) = (kin(t + h), kin(t - h));
+            let e_ddot = [
+                (k_plus.e_dot[0] - k_minus.e_dot[0]) / (2.0 * h),
+                (k_plus.e_dot[1] - k_minus.e_dot[1]) / (2.0 * h),
+            ];
+            let fd = (k_plus.delta_dot - k_minus.delta_dot) / (2.0 * h);
+            let exact = kin(t).delta_ddot(e_ddot);
+            assert!(
+                (fd - exact).abs() < 1e-6,
+                "t = {t}: δ̈ = {exact:e}, finite difference {fd:e}"
             );
         }
     }

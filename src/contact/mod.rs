@@ -114,6 +114,24 @@ impl ClearanceJoint {
         clearance_kinematics(bearing, journal, self.journal_radius, self.clearance)
     }
 
+    /// The penetration acceleration δ̈ (m/s²) and the rate dF_N/dt (N/s) of the normal force,
+    /// for the relative acceleration `e_ddot` = ë of the centres (m/s²) and the stored impact
+    /// velocity `stored` (m/s, ≤ 0: none): what locates the largest force and penetration of a
+    /// contact between solver steps ([`ContactKinematics::delta_ddot`],
+    /// [`ContactLaw::normal_force_rate`]).
+    pub fn normal_force_rate(
+        &self,
+        kinematics: &ContactKinematics,
+        e_ddot: [f64; 2],
+        stored: f64,
+    ) -> (f64, f64) {
+        let delta_ddot = kinematics.delta_ddot(e_ddot);
+        let rate =
+            self.law
+                .normal_force_rate(kinematics.delta, kinematics.delta_dot, delta_ddot, stored);
+        (delta_ddot, rate)
+    }
+
     /// Normal force, friction force and their action on both bodies, given the joint's kinematics
     /// and the impact velocity δ̇⁽⁻⁾ (m/s) to use (see [`impact_velocity`]).
     /// All zero when δ ≤ 0.

@@ -14,7 +14,7 @@ use crate::contact::{
     impact_velocity, kinks,
 };
 use crate::mechanics::planar::{PointState, cross, perp, point_state};
-use crate::model::{Anchor, Frame, JointId, JointKind, Model};
+use crate::model::{Anchor, BodyId, Frame, JointId, JointKind, Model};
 
 /// One clearance joint: its anchors and its contact model.
 #[derive(Debug, Clone)]
@@ -127,6 +127,91 @@ impl ContactSites {
         (bearing, journal, kinematics)
     }
 
+    /// Bearing and journal centres of joint `k` at (q, q̇), evaluating the sines and cosines of
+    /// the joint's two bodies only (for a look at one joint in a large model).
+    fn site_centres(&self, k: usize, q: &[f64], v: &[f64]) -> (PointState, PointState) {
+        let site = &self.sites[k];
+        let centre = |anchor: &Anchor| {
+            let mut sin_cos = [(0.0, 1.0)];
+            let frame = match anchor.frame {
+                Frame::Body(id) => {
+                    sin_cos[0] = q
+                        .get(3 * id.0 + 2)
+                        .map_or((f64::NAN, f64::NAN), |p| p.sin_cos());
+                    // The one body, renumbered 0 in its own one-body slices.
+                    let base = 3 * id.0;
+                    return point_state(
+                        Frame::Body(BodyId(0)),
+                        anchor.local,
+                        q.get(base..base + 3).unwrap_or(&[f64::NAN; 3]),
+                        v.get(base..base + 3).unwrap_or(&[f64::NAN; 3]),
+                        &sin_cos,
+                    );
+                }
+                Frame::Ground => Frame::Ground,
+            };
+            point_state(frame, anchor.local, q, v, &sin_cos)
+        };
+        (centre(&site.bearing), centre(&site.journal))
+    }
+
+    /// State of joint `k` at (q, q̇) and the relative acceleration ë = r̈_J − r̈_B of its centres
+    /// (m/s²) for the body accelerations `acc` = q̈ (3 per body), with the stored impact
+    /// velocity `stored` (0 = none): what the impact log's peak search reads at step ends
+    /// (with [`ClearanceJoint::normal_force_rate`]). Only the joint's two bodies are evaluated.
+    pub fn site_motion(
+        &self,
+        k: usize,
+        q: &[f64],
+        v: &[f64],
+        acc: &[f64],
+        stored: f64,
+    ) -> (SiteState, [f64; 2]) {
+        let site = &self.sites[k];
+        let (bearing, journal) = self.site_centres(k, q, v);
+        let kinematics = site
+            .contact
+            .kinematics(&CentreMotion::from(bearing), &CentreMotion::from(journal));
+        let a_b = point_acceleration(site.bearing.frame, bearing, acc);
+        let a_j = point_acceleration(site.journal.frame, journal, acc);
+        let state = SiteState {
+            bearing,
+            journal,
+            kinematics,
+            forces: self.site_forces(k, &kinematics, stored),
+        };
+        (state, [a_j[0] - a_b[0], a_j[1] - a_b[1]])
+    }
+
+    /// State of joint `k` at (q, q̇) with the stored impact velocity `stored` (0 = none),
+    /// evaluating only the joint's two bodies (see [`ContactSites::site_state`] for the form
+    /// that reuses the right-hand side's sines and cosines of every body).
+    pub fn site_state_alone(&self, k: usize, q: &[f64], v: &[f64], stored: f64) -> SiteState {
+        let (bearing, journal) = self.site_centres(k, q, v);
+        let kinematics = self.sites[k]
+            .contact
+            .kinematics(&CentreMotion::from(bearing), &CentreMotion::from(journal));
+        SiteState {
+            bearing,
+            journal,
+            kinematics,
+            forces: self.site_forces(k, &kinematics, stored),
+        }
+    }
+
+    /// Forces of joint `k` for its kinematics (all zero while free).
+    fn site_forces(&self, k: usize, kinematics: &ContactKinematics, stored: f64) -> ContactForces {
+        // No contact work while free; a stage past a contact onset that is not yet located has
+        // no stored δ̇⁽⁻⁾ and uses the current δ̇, its value at the onset to first order.
+        if kinematics.delta > 0.0 {
+            self.sites[k]
+                .contact
+                .forces(kinematics, impact_velocity(stored, kinematics.delta_dot))
+        } else {
+            ContactForces::default()
+        }
+    }
+
     /// State of joint `k` at (q, q̇) with the stored impact velocity `stored` (0 = none).
     pub fn site_state(
         &self,
@@ -137,20 +222,11 @@ impl ContactSites {
         stored: f64,
     ) -> SiteState {
         let (bearing, journal, kinematics) = self.site_kinematics(k, q, v, sin_cos);
-        // No contact work while free; a stage past a contact onset that is not yet located has
-        // no stored δ̇⁽⁻⁾ and uses the current δ̇, its value at the onset to first order.
-        let forces = if kinematics.delta > 0.0 {
-            self.sites[k]
-                .contact
-                .forces(&kinematics, impact_velocity(stored, kinematics.delta_dot))
-        } else {
-            ContactForces::default()
-        };
         SiteState {
             bearing,
             journal,
             kinematics,
-            forces,
+            forces: self.site_forces(k, &kinematics, stored),
         }
     }
 

@@ -492,27 +492,25 @@ impl Dae {
     /// State of clearance joint `k` (in [`Dae::contacts`] order) at (t, y).
     pub fn contact_state(&self, k: usize, y: &[f64]) -> super::contacts::SiteState {
         let n = self.n_coordinates();
-        // Called per probe of the contact-force peak search: reuse the RHS's sin/cos buffer
-        // instead of allocating one per call (it is free here: this is never called from inside
-        // a right-hand side evaluation, and falls back to a fresh buffer if it ever is).
-        match self.work.try_borrow_mut() {
-            Ok(mut work) => {
-                for (sc, phi) in work
-                    .sin_cos
-                    .iter_mut()
-                    .zip(y[..n].iter().skip(2).step_by(3))
-                {
-                    *sc = phi.sin_cos();
-                }
-                self.contacts
-                    .site_state(k, &y[..n], &y[n..2 * n], &work.sin_cos, y[2 * n + k])
-            }
-            Err(_) => {
-                let sin_cos = sin_cos_of(&y[..n]);
-                self.contacts
-                    .site_state(k, &y[..n], &y[n..2 * n], &sin_cos, y[2 * n + k])
-            }
-        }
+        self.contacts
+            .site_state_alone(k, &y[..n], &y[n..2 * n], y[2 * n + k])
+    }
+
+    /// Clearance joint `k` at the state y whose time derivative is `y_dot` (length
+    /// [`Formulation::n_states`]): its state, the relative acceleration ë of its centres
+    /// (m/s²) from the accelerations q̈ in `y_dot`, and its stored impact velocity (m/s).
+    pub fn contact_motion_state(
+        &self,
+        k: usize,
+        y: &[f64],
+        y_dot: &[f64],
+    ) -> (super::contacts::SiteState, [f64; 2], f64) {
+        let n = self.n_coordinates();
+        let stored = y[2 * n + k];
+        let (state, e_ddot) =
+            self.contacts
+                .site_motion(k, &y[..n], &y[n..2 * n], &y_dot[n..2 * n], stored);
+        (state, e_ddot, stored)
     }
 
     /// Full evaluation at (t, y): accelerations, multipliers of every row and Φ.

@@ -832,6 +832,52 @@ impl ReducedLagrangian {
         })
     }
 
+    /// ë = r̈_J − r̈_B of the clearance centres (m/s²) for the link rates [θ̇3, θ̇4] (rad/s) and
+    /// accelerations [θ̈3, θ̈4] (rad/s²).
+    fn e_ddot(&self, c: &Chain, rates: [f64; 2], accelerations: [f64; 2]) -> [f64; 2] {
+        let [w3, w4] = rates;
+        let [alpha3, alpha4] = accelerations;
+        let accel = |d: [f64; 2], alpha: f64, w: f64| {
+            let jd = perp(d);
+            [alpha * jd[0] - w * w * d[0], alpha * jd[1] - w * w * d[1]]
+        };
+        let acc3 = accel(c.d[1], alpha3, w3);
+        let acc_c3 = [c.a_acc[0] + acc3[0], c.a_acc[1] + acc3[1]];
+        let acc_c4 = accel(c.d[2], alpha4, w4);
+        let s = if self.bearing_on_coupler { 1.0 } else { -1.0 };
+        [s * (acc_c4[0] - acc_c3[0]), s * (acc_c4[1] - acc_c3[1])]
+    }
+
+    /// The clearance joint at (t, y) from the link kinematics alone, without the equations of
+    /// motion: its kinematics and forces (with the stored δ̇⁽⁻⁾ of y, which is returned too).
+    pub fn contact_at(&self, t: f64, y: &[f64]) -> (ContactKinematics, ContactForces, f64) {
+        let stored = state(y)[4];
+        let kin = self.kinematics(t, y);
+        let forces = self
+            .joint
+            .forces(&kin, impact_velocity(stored, kin.delta_dot));
+        (kin, forces, stored)
+    }
+
+    /// As [`ReducedLagrangian::contact_at`], with the relative acceleration ë of the clearance
+    /// centres (m/s²) from θ̈3, θ̈4 in `y_dot`, the time derivative of y.
+    pub fn contact_motion_at(
+        &self,
+        t: f64,
+        y: &[f64],
+        y_dot: &[f64],
+    ) -> (ContactKinematics, ContactForces, f64, [f64; 2]) {
+        let [_, _, w3, w4, stored] = state(y);
+        let c = self.chain(t, y);
+        let kin = self.joint_kinematics(&c);
+        let forces = self
+            .joint
+            .forces(&kin, impact_velocity(stored, kin.delta_dot));
+        let [_, _, alpha3, alpha4, _] = state(y_dot);
+        let e_ddot = self.e_ddot(&c, [w3, w4], [alpha3, alpha4]);
+        (kin, forces, stored, e_ddot)
+    }
+
     /// Everything at (t, y): angles and rates, θ̈3, θ̈4, the clearance joint's state and forces,
     /// the crank torque M2 and the body states. Fails with `NonFinite` if an acceleration is not
     /// finite.
@@ -868,15 +914,7 @@ impl ReducedLagrangian {
         let crank_torque = cross(c.d[0], f_a) - cross(a2, weight(cr.mass)) - cr.torque - load2;
 
         // Relative acceleration of the clearance centres (for the grazing guard).
-        let accel = |d: [f64; 2], alpha: f64, w: f64| {
-            let jd = perp(d);
-            [alpha * jd[0] - w * w * d[0], alpha * jd[1] - w * w * d[1]]
-        };
-        let acc3 = accel(c.d[1], alpha3, w3);
-        let acc_c3 = [c.a_acc[0] + acc3[0], c.a_acc[1] + acc3[1]];
-        let acc_c4 = accel(c.d[2], alpha4, w4);
-        let s = if self.bearing_on_coupler { 1.0 } else { -1.0 };
-        let e_ddot = [s * (acc_c4[0] - acc_c3[0]), s * (acc_c4[1] - acc_c3[1])];
+        let e_ddot = self.e_ddot(&c, [w3, w4], [alpha3, alpha4]);
 
         let fixed = |p: [f64; 2]| Pivot {
             position: p,

@@ -1,30 +1,35 @@
 //! True contact peaks between the output samples, and the impact log's records.
 //!
 //! **Peaks.** For every accepted step during which a clearance joint is in contact, the
-//! largest normal force F_N and the largest penetration δ inside the step are located on the
-//! step's dense output ([`DenseStep`]), not read off the output samples: the state is
-//! interpolated at [`PROBES`] + 1 equally spaced points of the step (ends included), then the
-//! largest probe of each quantity is refined by golden-section search ([`maximise`]) on the
-//! two probe intervals around it, to [`T_TOL`] of the step length h. Near a smooth maximum
-//! F(t) ≈ F* − ½|F''|(t − t*)², so a time error of 1e-4·h costs ½|F''|(1e-4 h)²; for a contact
-//! pulse F* sin(π t/T_c) with steps h ≤ T_c that is at most ½π²·1e-8 ≈ 5e-8 of F*: the peak is
-//! as accurate as the dense output itself (≈ rtol = 1e-8 by default). The result is never
-//! below the largest probe. A step whose probes show that it cannot beat the peak of its
-//! contact so far (largest probe + |second difference| below it) is not refined: most steps
-//! of a long contact cost the probes only.
+//! largest normal force F_N and the largest penetration δ inside the step are found from the
+//! step's ends and, where a maximum lies inside the step, on its dense output ([`DenseStep`]):
 //!
-//! The contact quantities at an interpolated (t, y) come from [`ContactProbe`], which both
-//! formulations implement with their contact kinematics alone (no acceleration solve for the
-//! DAE). A model without clearance joints does no work at all (the hook returns at once).
+//! 1. At both ends of the step the joint's δ, δ̇, δ̈, F_N and dF_N/dt are evaluated from the
+//!    state and its time derivative ([`ContactProbe::contact_motion`]): the contact kinematics
+//!    and the law alone, with the derivative the method already holds (the explicit pairs' first
+//!    and FSAL stages, Radau5's f at its step ends). The end of one step is the start of the
+//!    next, so a step in contact costs one such evaluation — no interpolation, no equations of
+//!    motion, and DOP853's lazy dense-output stages stay unevaluated.
+//! 2. A quantity whose rate falls from positive at the start to negative at the end has a
+//!    maximum inside the step. Unless the cubic Hermite polynomial through the two ends' values
+//!    and rates shows that this maximum cannot reach the contact's peak so far (with its own
+//!    excursion above the ends as the margin), the maximum is located by golden-section search
+//!    ([`maximise`]) on the dense output over the step, to [`T_TOL`] of the step length h.
+//!    Near a smooth maximum F(t) ≈ F* − ½|F''|(t − t*)², so a time error of 1e-4·h costs
+//!    ½|F''|(1e-4 h)²; for a contact pulse F* sin(π t/T_c) with steps h ≤ T_c that is at most
+//!    ½π²·1e-8 ≈ 5e-8 of F*: the peak is as accurate as the dense output itself.
+//! 3. Otherwise the larger end value is the step's peak.
+//!
+//! This assumes that a step holds at most one maximum of each quantity: the error control
+//! resolves the contact's motion (a contact pulse spans several steps), and the rates at both
+//! ends catch any single interior maximum wherever it lies. `tests/peak_search_scan.rs` checks
+//! the peaks against a dense scan of every step on the reference cases.
+//!
+//! A model without clearance joints does no work at all (the hook returns at once).
 
 use crate::formulation::{Dae, FormulationError, Generalized, ReducedLagrangian};
 use crate::solve::{DenseStep, SolveError};
 use serde::Serialize;
-
-/// Interior probe intervals per step in contact (the step is sampled at PROBES + 1 points).
-/// A contact pulse spans several steps, so within one step F_N and δ have at most one
-/// interior maximum; 8 intervals separate it from a maximum at an end of the step.
-pub const PROBES: usize = 8;
 
 /// Golden-section stopping width, relative to the step length (see the module docs).
 pub const T_TOL: f64 = 1e-4;
@@ -42,11 +47,54 @@ pub struct ContactPoint {
     pub impact_velocity: f64,
 }
 
+/// A [`ContactPoint`] with the rates that locate its maxima in time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactMotion {
+    /// The contact quantities.
+    pub point: ContactPoint,
+    /// Penetration acceleration δ̈ (m/s²).
+    pub delta_ddot: f64,
+    /// dF_N/dt (N/s; 0 while free).
+    pub normal_force_rate: f64,
+}
+
 /// Formulations whose clearance joints can be read at any (t, y) without evaluating the whole
-/// right-hand side: what the peak search evaluates at interpolated states.
+/// right-hand side: what the peak search evaluates at step ends and interpolated states.
 pub trait ContactProbe {
     /// Clearance joint `k` (model order, the index of its δ event) at (t, y).
     fn contact_probe(&self, k: usize, t: f64, y: &[f64]) -> Result<ContactPoint, FormulationError>;
+
+    /// Clearance joint `k` at (t, y) with its rates, for the time derivative `y_dot` = f(t, y)
+    /// of the state.
+    fn contact_motion(
+        &self,
+        k: usize,
+        t: f64,
+        y: &[f64],
+        y_dot: &[f64],
+    ) -> Result<ContactMotion, FormulationError>;
+}
+
+/// The [`ContactMotion`] of a joint from its kinematics and forces, the relative acceleration
+/// of its centres and its stored impact velocity.
+fn motion_of(
+    joint: &crate::contact::ClearanceJoint,
+    kinematics: &crate::contact::ContactKinematics,
+    normal_force: f64,
+    e_ddot: [f64; 2],
+    stored: f64,
+) -> ContactMotion {
+    let (delta_ddot, normal_force_rate) = joint.normal_force_rate(kinematics, e_ddot, stored);
+    ContactMotion {
+        point: ContactPoint {
+            delta: kinematics.delta,
+            delta_dot: kinematics.delta_dot,
+            normal_force,
+            impact_velocity: stored,
+        },
+        delta_ddot,
+        normal_force_rate,
+    }
 }
 
 impl ContactProbe for Dae {
@@ -70,6 +118,25 @@ impl ContactProbe for Dae {
             impact_velocity: stored,
         })
     }
+
+    /// From [`Dae::contact_motion_state`], with q̈ from `y_dot`.
+    fn contact_motion(
+        &self,
+        k: usize,
+        _t: f64,
+        y: &[f64],
+        y_dot: &[f64],
+    ) -> Result<ContactMotion, FormulationError> {
+        let (s, e_ddot, stored) = self.contact_motion_state(k, y, y_dot);
+        let joint = &self.contacts().sites()[k].contact;
+        Ok(motion_of(
+            joint,
+            &s.kinematics,
+            s.forces.normal_force,
+            e_ddot,
+            stored,
+        ))
+    }
 }
 
 impl ContactProbe for Generalized {
@@ -78,24 +145,60 @@ impl ContactProbe for Generalized {
         let projected = self.project(t, y)?;
         self.dae().contact_probe(k, t, &projected)
     }
+
+    /// The DAE's motion at the projected state ([`Generalized::contact_motion_state`]).
+    fn contact_motion(
+        &self,
+        k: usize,
+        t: f64,
+        y: &[f64],
+        y_dot: &[f64],
+    ) -> Result<ContactMotion, FormulationError> {
+        let (s, e_ddot, stored) = self.contact_motion_state(k, t, y, y_dot)?;
+        let joint = &self.dae().contacts().sites()[k].contact;
+        Ok(motion_of(
+            joint,
+            &s.kinematics,
+            s.forces.normal_force,
+            e_ddot,
+            stored,
+        ))
+    }
 }
 
 impl ContactProbe for ReducedLagrangian {
-    /// From [`ReducedLagrangian::outputs`] (five states: the whole evaluation is a few dozen
-    /// flops).
+    /// From the link kinematics and the contact law ([`ReducedLagrangian::contact_at`]).
     fn contact_probe(
         &self,
         _k: usize,
         t: f64,
         y: &[f64],
     ) -> Result<ContactPoint, FormulationError> {
-        let o = self.outputs(t, y)?;
+        let (kin, forces, stored) = self.contact_at(t, y);
         Ok(ContactPoint {
-            delta: o.delta,
-            delta_dot: o.delta_dot,
-            normal_force: o.normal_force,
-            impact_velocity: o.impact_velocity,
+            delta: kin.delta,
+            delta_dot: kin.delta_dot,
+            normal_force: forces.normal_force,
+            impact_velocity: stored,
         })
+    }
+
+    /// From [`ReducedLagrangian::contact_motion_at`], with θ̈3, θ̈4 from `y_dot`.
+    fn contact_motion(
+        &self,
+        _k: usize,
+        t: f64,
+        y: &[f64],
+        y_dot: &[f64],
+    ) -> Result<ContactMotion, FormulationError> {
+        let (kin, forces, stored, e_ddot) = self.contact_motion_at(t, y, y_dot);
+        Ok(motion_of(
+            self.clearance_joint(),
+            &kin,
+            forces.normal_force,
+            e_ddot,
+            stored,
+        ))
     }
 }
 
@@ -146,6 +249,35 @@ pub fn maximise<E>(
     Ok(best)
 }
 
+/// The largest value on θ ∈ [0, 1] of the cubic Hermite polynomial with values `v0`, `v1` and
+/// derivatives (with respect to θ) `d0`, `d1` at the ends.
+fn hermite_max(v0: f64, v1: f64, d0: f64, d1: f64) -> f64 {
+    // p(θ) = v0 + d0 θ + a θ² + b θ³ with p(1) = v1, p'(1) = d1.
+    let b = d0 + d1 - 2.0 * (v1 - v0);
+    let a = 3.0 * (v1 - v0) - 2.0 * d0 - d1;
+    let p = |x: f64| v0 + x * (d0 + x * (a + x * b));
+    // Roots of p'(θ) = d0 + 2a θ + 3b θ² inside (0, 1).
+    let mut best = v0.max(v1);
+    let mut consider = |x: f64| {
+        if x > 0.0 && x < 1.0 {
+            best = best.max(p(x));
+        }
+    };
+    if b.abs() < 1e-12 * (a.abs() + d0.abs()) {
+        if a != 0.0 {
+            consider(-d0 / (2.0 * a));
+        }
+    } else {
+        let disc = a * a - 3.0 * b * d0;
+        if disc >= 0.0 {
+            let r = disc.sqrt();
+            consider((-a + r) / (3.0 * b));
+            consider((-a - r) / (3.0 * b));
+        }
+    }
+    best
+}
+
 /// The peaks of one joint inside one step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepPeak {
@@ -155,21 +287,59 @@ pub struct StepPeak {
     pub delta: (f64, f64),
 }
 
+/// A joint's [`ContactMotion`] at a step end, kept for the next step while it starts there.
+#[derive(Debug, Clone, Copy)]
+struct KnownEnd {
+    t: f64,
+    motion: ContactMotion,
+}
+
+/// The two ends of the step being searched, shared by the joints.
+#[derive(Debug, Clone, Default)]
+struct StepEnds {
+    y_start: Vec<f64>,
+    slope_start: Vec<f64>,
+    start_ready: bool,
+    y_end: Vec<f64>,
+    slope_end: Vec<f64>,
+    end_ready: bool,
+}
+
 /// Reusable buffers of the peak search and its cost.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct PeakSearch {
     y: Vec<f64>,
-    probes: Vec<(f64, ContactPoint)>,
+    ends: StepEnds,
+    /// Per joint: its motion at the end of the last step searched, until an event changes the
+    /// state there.
+    known: Vec<Option<KnownEnd>>,
     /// Dense-output evaluations made by the search.
     pub(crate) interpolations: u64,
+    /// RHS calls made by the search for the slope at a step end the method does not hold (a
+    /// step cut at an event; also counted in the run's `rhs_evals`).
+    pub(crate) rhs_evals: u64,
     /// Steps searched (per joint in contact).
     pub(crate) steps: u64,
+    /// Steps whose interior was searched on the dense output (per joint and quantity).
+    pub(crate) refinements: u64,
 }
 
 impl PeakSearch {
-    /// The peaks of joint `k` inside `step` (call only while the joint is in contact). `floor`
-    /// holds the peaks (F_N, δ) of the contact so far: a quantity whose probes show that the
-    /// step cannot exceed its floor is not refined (its largest probe is returned).
+    /// Forgets the step ends seen so far: an event may have changed the state there (the
+    /// stored impact velocity at an impact).
+    pub(crate) fn forget_ends(&mut self) {
+        self.known.iter_mut().for_each(|k| *k = None);
+    }
+
+    /// Starts the search of a new step (its end states are evaluated on first use).
+    pub(crate) fn begin_step(&mut self) {
+        self.ends.start_ready = false;
+        self.ends.end_ready = false;
+    }
+
+    /// The peaks of joint `k` inside `step` (call only while the joint is in contact, after
+    /// [`PeakSearch::begin_step`] for this step). `floor` holds the peaks (F_N, δ) of the
+    /// contact so far: a maximum that cannot exceed its floor is not located.
     pub(crate) fn step_peak<F: crate::formulation::Formulation + ContactProbe>(
         &mut self,
         step: &mut DenseStep<'_, F>,
@@ -179,52 +349,72 @@ impl PeakSearch {
         self.steps += 1;
         let (a, b) = step.range();
         let f = step.formulation();
-        self.y.resize(step.n_states(), 0.0);
+        let n = step.n_states();
+        if self.known.len() <= k {
+            self.known.resize(k + 1, None);
+        }
+        let motion_err = |t: f64| move |source| SolveError::Formulation { t, source };
+        let start = match self.known[k] {
+            Some(known) if known.t == a => known.motion,
+            _ => {
+                let e = &mut self.ends;
+                if !e.start_ready {
+                    e.y_start.resize(n, 0.0);
+                    e.slope_start.resize(n, 0.0);
+                    step.interpolate(a, &mut e.y_start)?;
+                    self.rhs_evals += u64::from(step.start_slope(&mut e.slope_start)?);
+                    e.start_ready = true;
+                }
+                f.contact_motion(k, a, &e.y_start, &e.slope_start)
+                    .map_err(motion_err(a))?
+            }
+        };
+        let e = &mut self.ends;
+        if !e.end_ready {
+            e.y_end.resize(n, 0.0);
+            e.slope_end.resize(n, 0.0);
+            self.rhs_evals += u64::from(step.end_state_and_slope(&mut e.y_end, &mut e.slope_end)?);
+            e.end_ready = true;
+        }
+        let end = f
+            .contact_motion(k, b, &e.y_end, &e.slope_end)
+            .map_err(motion_err(b))?;
+        self.known[k] = Some(KnownEnd { t: b, motion: end });
+
+        self.y.resize(n, 0.0);
         let y = &mut self.y;
         let interpolations = &mut self.interpolations;
-        let mut at = |t: f64| -> Result<ContactPoint, SolveError> {
-            *interpolations += 1;
-            step.interpolate(t, y)?;
-            f.contact_probe(k, t, y)
-                .map_err(|source| SolveError::Formulation { t, source })
+        let refinements = &mut self.refinements;
+        let h = b - a;
+        let mut peak_of = |value: fn(&ContactPoint) -> f64,
+                           rate: fn(&ContactMotion) -> f64,
+                           floor: f64|
+         -> Result<(f64, f64), SolveError> {
+            let (va, vb) = (value(&start.point), value(&end.point));
+            let ends = if vb >= va { (vb, b) } else { (va, a) };
+            let (ra, rb) = (rate(&start), rate(&end));
+            if !(ra > 0.0 && rb < 0.0 && h > 0.0) {
+                return Ok(ends);
+            }
+            // The cubic through both ends estimates the interior maximum; twice its excursion
+            // above the ends is the margin for the polynomial's own error.
+            let estimate = hermite_max(va, vb, ra * h, rb * h);
+            if estimate + (estimate - ends.0) < floor {
+                return Ok(ends);
+            }
+            *refinements += 1;
+            let mut at = |t: f64| -> Result<f64, SolveError> {
+                *interpolations += 1;
+                step.interpolate(t, y)?;
+                f.contact_probe(k, t, y)
+                    .map(|p| value(&p))
+                    .map_err(|source| SolveError::Formulation { t, source })
+            };
+            let (t, v) = maximise(&mut at, a, b, T_TOL * h)?;
+            Ok(if v > ends.0 { (v, t) } else { ends })
         };
-        self.probes.clear();
-        for j in 0..=PROBES {
-            // The last probe is b exactly (the stored end state where there is one).
-            let t = if j == PROBES {
-                b
-            } else {
-                a + (b - a) * j as f64 / PROBES as f64
-            };
-            self.probes.push((t, at(t)?));
-        }
-        let tol = T_TOL * (b - a);
-        let mut refine =
-            |value: fn(&ContactPoint) -> f64, floor: f64| -> Result<(f64, f64), SolveError> {
-                let v = |j: usize| self.probes.get(j).map_or(f64::NAN, |p| value(&p.1));
-                let mut i = 0;
-                for j in 1..self.probes.len() {
-                    if v(j) > v(i) {
-                        i = j;
-                    }
-                }
-                // PROBES + 1 ≥ 3 probes were pushed above, so index i exists.
-                let (t_i, best) = (self.probes[i].0, v(i));
-                // Between probes a smooth f rises above its best probe by at most ≈ |Δ²f|/8 (the
-                // parabola through three probes); |Δ²f| itself (8× that) is the margin. A step
-                // that cannot beat the contact's peak so far is not refined.
-                let centre = i.clamp(1, PROBES - 1);
-                let second = (v(centre - 1) - 2.0 * v(centre) + v(centre + 1)).abs();
-                if best + second < floor {
-                    return Ok((best, t_i));
-                }
-                let lo = self.probes.get(i.wrapping_sub(1)).map_or(a, |p| p.0);
-                let hi = self.probes.get(i + 1).map_or(b, |p| p.0);
-                let (t, r) = maximise(|t| at(t).map(|p| value(&p)), lo, hi, tol)?;
-                Ok(if r > best { (r, t) } else { (best, t_i) })
-            };
-        let normal_force = refine(|p| p.normal_force, floor.0)?;
-        let delta = refine(|p| p.delta, floor.1)?;
+        let normal_force = peak_of(|p| p.normal_force, |m| m.normal_force_rate, floor.0)?;
+        let delta = peak_of(|p| p.delta, |m| m.point.delta_dot, floor.1)?;
         Ok(StepPeak {
             normal_force,
             delta,

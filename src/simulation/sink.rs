@@ -117,6 +117,10 @@ impl<F: Formulation + Outputs + ContactProbe, S: SampleSink + ?Sized> Sink<F> fo
             f64::NAN
         };
         self.summary.event(event, impact_velocity);
+        if event.restarted {
+            // The state after the event (a new stored impact velocity) starts the next step.
+            self.peaks.forget_ends();
+        }
         self.consumer.event(event)
     }
 
@@ -128,6 +132,7 @@ impl<F: Formulation + Outputs + ContactProbe, S: SampleSink + ?Sized> Sink<F> fo
             return Ok(());
         }
         let (a, b) = step.range();
+        self.peaks.begin_step();
         for k in 0..n {
             if self.summary.in_contact_during(k, b) {
                 let floor = self.summary.contact_peaks_so_far(k, a);
@@ -136,6 +141,7 @@ impl<F: Formulation + Outputs + ContactProbe, S: SampleSink + ?Sized> Sink<F> fo
             }
         }
         self.summary.peak_search_interpolations = self.peaks.interpolations;
+        self.summary.peak_search_rhs_evals = self.peaks.rhs_evals;
         Ok(())
     }
 }

@@ -44,6 +44,10 @@ pub struct RunSummary {
     /// without clearance joints); their RHS cost, if any (DOP853: 3 per step interpolated for
     /// the first time), is in `solver_stats.dense_evals`.
     pub peak_search_interpolations: u64,
+    /// RHS calls the peak search made itself, for the slope at the ends of steps cut at an
+    /// event (the methods hold it at every other step end); included in
+    /// `solver_stats.rhs_evals`.
+    pub peak_search_rhs_evals: u64,
     /// With the energy bookkeeping: the work–energy balance over the run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub energy_balance: Option<EnergyBalance>,
@@ -155,6 +159,7 @@ pub struct SummaryBuilder {
     t_first: Option<f64>,
     t_last: f64,
     pub(super) peak_search_interpolations: u64,
+    pub(super) peak_search_rhs_evals: u64,
 }
 
 impl SummaryBuilder {
@@ -198,6 +203,7 @@ impl SummaryBuilder {
             t_first: None,
             t_last: f64::NEG_INFINITY,
             peak_search_interpolations: 0,
+            peak_search_rhs_evals: 0,
         }
     }
 
@@ -372,6 +378,7 @@ impl SummaryBuilder {
                 })
                 .collect(),
             peak_search_interpolations: self.peak_search_interpolations,
+            peak_search_rhs_evals: self.peak_search_rhs_evals,
             energy_balance: self.energy.as_ref().and_then(|e| {
                 let [driver_work, external_work, dissipated] = e.last?;
                 Some(EnergyBalance {

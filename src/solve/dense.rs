@@ -18,6 +18,9 @@ pub struct DenseStep<'s, F: Formulation + ?Sized> {
     pub(crate) y_old: &'s [f64],
     /// (t, y) at the step end while y is still the step's end state.
     pub(crate) end: Option<(f64, &'s [f64])>,
+    /// The end state in `end` is the method's own solution (not corrected by
+    /// [`Formulation::accept_step`]), so the method's slope there is f at that state.
+    pub(crate) end_is_solution: bool,
 }
 
 impl<'s, F: Formulation + ?Sized> DenseStep<'s, F> {
@@ -37,6 +40,54 @@ impl<'s, F: Formulation + ?Sized> DenseStep<'s, F> {
     #[must_use]
     pub fn n_states(&self) -> usize {
         self.y_old.len()
+    }
+
+    /// Writes f(t, y) at the start of the valid range into `out` (length n): the method's own
+    /// where it holds it ([`Integrator::step_slopes`]), else one RHS call (counted in the run's
+    /// statistics). Returns whether that call was made.
+    pub fn start_slope(&mut self, out: &mut [f64]) -> Result<bool, SolveError> {
+        if self.h_step > 0.0
+            && let Some((start, _)) = self.integrator.step_slopes()
+            && start.len() == out.len()
+        {
+            out.copy_from_slice(start);
+            return Ok(false);
+        }
+        self.stats.rhs_evals += 1;
+        self.f
+            .rhs(self.t_old, self.y_old, out)
+            .map_err(|source| SolveError::Formulation {
+                t: self.t_old,
+                source,
+            })?;
+        Ok(true)
+    }
+
+    /// Writes the state at the end of the valid range into `y` and f(t, y) there into `slope`
+    /// (each of length n): the method's own slope where the range ends at the method's own
+    /// step end ([`Integrator::step_slopes`]), else one RHS call (counted; a step cut at an
+    /// event, or an end state corrected by the formulation). Returns whether that call was made.
+    pub fn end_state_and_slope(
+        &mut self,
+        y: &mut [f64],
+        slope: &mut [f64],
+    ) -> Result<bool, SolveError> {
+        let t = self.dense_end;
+        self.interpolate(t, y)?;
+        if self.end_is_solution
+            && self.h_step > 0.0
+            && matches!(self.end, Some((t_end, _)) if t_end == t)
+            && let Some((_, end)) = self.integrator.step_slopes()
+            && end.len() == slope.len()
+        {
+            slope.copy_from_slice(end);
+            return Ok(false);
+        }
+        self.stats.rhs_evals += 1;
+        self.f
+            .rhs(t, y, slope)
+            .map_err(|source| SolveError::Formulation { t, source })?;
+        Ok(true)
     }
 
     /// Writes the state at time t ∈ [`DenseStep::range`] (within a few ulps) into `out`

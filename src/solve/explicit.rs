@@ -339,6 +339,12 @@ impl<F: Formulation + ?Sized, P: Pair> Integrator<F> for ExplicitRk<P> {
     fn stiffness_detected(&self) -> bool {
         self.stiff
     }
+
+    fn step_slopes(&self) -> Option<(&[f64], &[f64])> {
+        // k_0 = f(t, y) and the FSAL stage f(t_new, y_new) of the accepted step; the lazy
+        // dense-output stages are stored after them and leave both as they are.
+        Some((self.k.first()?, self.k.get(P::FSAL)?))
+    }
 }
 
 /// The cubic Hermite interpolant at θ ∈ [0, 1] of a step of size h from (y0, f0) to (y1, f1).

@@ -249,6 +249,14 @@ pub trait Integrator<F: Formulation + ?Sized> {
         stats: &mut SolverStats,
     ) -> Result<(), SolveError>;
 
+    /// f(t, y) at the start and at the end of the last accepted step, where the method holds
+    /// both without a further call (explicit pairs: the first and the FSAL stage; Radau5: f at
+    /// the start and at the accepted end state). `None` (the default): whoever needs them
+    /// evaluates f. Valid until the next attempt.
+    fn step_slopes(&self) -> Option<(&[f64], &[f64])> {
+        None
+    }
+
     /// Whether the method's own indicator says the step size is currently limited by stability
     /// rather than accuracy (the problem is stiff for this method). Explicit pairs use
     /// Hairer's test; implicit methods keep the default `false`.

@@ -486,6 +486,7 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             h_step: self.h_step,
             y_old: &self.y_old,
             end: self.y_is_step_end.then_some((self.t, &self.y[..])),
+            end_is_solution: !self.restart_before_next_step,
         }
     }
 

@@ -98,6 +98,48 @@ pub fn hysteresis_force(
     (elastic * (1.0 + chi * delta_dot / impact_velocity)).max(0.0)
 }
 
+/// Time derivative dF_N/dt (N/s) of [`hysteresis_force`] along a motion with penetration
+/// `delta` = δ (m), rate `delta_dot` = δ̇ (m/s) and acceleration `delta_ddot` = δ̈ (m/s²), with
+/// the stored impact velocity `stored` = δ̇⁽⁻⁾ (m/s; ≤ 0 when none is stored, and the law then
+/// uses the current δ̇ in its place, as [`crate::contact::impact_velocity`] does):
+///
+/// ```text
+///     stored δ̇⁽⁻⁾ usable:   dF_N/dt = K n δⁿ⁻¹ δ̇ (1 + χ δ̇/δ̇⁽⁻⁾) + K δⁿ χ δ̈/δ̇⁽⁻⁾
+///     δ̇ in its place:       F_N = K δⁿ (1 + χ),  dF_N/dt = K n δⁿ⁻¹ δ̇ (1 + χ)
+///     damping off:          dF_N/dt = K n δⁿ⁻¹ δ̇
+/// ```
+///
+/// 0 where the force is 0 (δ ≤ 0, or clamped at 0 by a fast separation). Used to find the
+/// instants of largest force between solver steps (the impact log's true peaks).
+pub fn hysteresis_force_rate(
+    law: (f64, f64, f64),
+    delta: f64,
+    delta_dot: f64,
+    delta_ddot: f64,
+    stored: f64,
+) -> f64 {
+    let (stiffness, exponent, chi) = law;
+    if delta.is_nan() || delta <= 0.0 {
+        return 0.0;
+    }
+    let power = penetration_power(delta, exponent);
+    // d(δⁿ)/dt = n δⁿ⁻¹ δ̇ = n δⁿ δ̇/δ (δ > 0 here).
+    let power_rate = exponent * power * delta_dot / delta;
+    let impact = if stored > 0.0 { stored } else { delta_dot };
+    let usable = impact.is_finite() && impact > MIN_IMPACT_VELOCITY;
+    if !usable || chi == 0.0 {
+        return stiffness * power_rate;
+    }
+    if stored <= 0.0 {
+        return stiffness * power_rate * (1.0 + chi);
+    }
+    let factor = 1.0 + chi * delta_dot / stored;
+    if factor <= 0.0 {
+        return 0.0;
+    }
+    stiffness * (power_rate * factor + power * chi * delta_ddot / stored)
+}
+
 /// δⁿ, with the Hertzian n = 1.5 as δ √δ (a powf costs several times a sqrt, and this is
 /// evaluated at every right-hand side in contact).
 #[inline]
@@ -165,6 +207,24 @@ impl ContactLaw {
             delta,
             delta_dot,
             impact_velocity,
+        )
+    }
+
+    /// dF_N/dt (N/s) along a motion (δ, δ̇, δ̈) with the stored impact velocity `stored` (≤ 0:
+    /// none); see [`hysteresis_force_rate`].
+    pub fn normal_force_rate(
+        &self,
+        delta: f64,
+        delta_dot: f64,
+        delta_ddot: f64,
+        stored: f64,
+    ) -> f64 {
+        hysteresis_force_rate(
+            (self.stiffness, self.exponent, self.damping_factor()),
+            delta,
+            delta_dot,
+            delta_ddot,
+            stored,
         )
     }
 }
@@ -250,6 +310,49 @@ mod tests {
                 (f - 1e4).abs() < 1e-8,
                 "impact velocity {v}: F = {f}, expected 1e4"
             );
+        }
+    }
+
+    /// dF_N/dt against central differences of F_N along δ(t) = δ0 + v t + ½ a t², for every
+    /// law, with a stored impact velocity, without one (δ̇ in its place), and where the damping
+    /// term is large. Step h = 1e-9 s: the truncation error ~h²·|F‴| is below 1e-8 of |F'| here
+    /// and rounding ~1e-16·F/h ≈ 1e-7·F N/s, so 1e-5 relative to max(|F'|, F/s) holds with room.
+    #[test]
+    fn force_rate_matches_finite_differences_of_the_force() {
+        for kind in [
+            ContactLawKind::LankaraniNikravesh,
+            ContactLawKind::HuntCrossley,
+            ContactLawKind::Flores,
+            ContactLawKind::Hertz,
+        ] {
+            let law = ContactLaw::from_spec(&spec(kind, None));
+            for (delta0, v, a, stored) in [
+                (1e-5, 0.1, -2e3, 0.3),
+                (2e-6, -0.05, 5e2, 0.2),
+                (1e-5, 0.2, 1e3, 0.0),
+                (3e-6, -0.1, 1e2, 0.3),
+                (1e-5, -0.01, -1e3, 0.0),
+            ] {
+                let force = |t: f64| {
+                    let (d, dd) = (delta0 + v * t + 0.5 * a * t * t, v + a * t);
+                    law.normal_force(d, dd, crate::contact::impact_velocity(stored, dd))
+                };
+                let h = 1e-9;
+                let numeric = (force(h) - force(-h)) / (2.0 * h);
+                let rate = law.normal_force_rate(delta0, v, a, stored);
+                let scale = numeric.abs().max(force(0.0));
+                assert!(
+                    (rate - numeric).abs() <= 1e-5 * scale,
+                    "{kind:?} δ = {delta0}, δ̇ = {v}, δ̈ = {a}, stored {stored}: {rate} vs {numeric}"
+                );
+            }
+            // Free: no force, no rate; clamped by a fast separation: no rate either.
+            assert_eq!(law.normal_force_rate(-1e-6, 0.1, 0.0, 0.3), 0.0);
+            if law.damping_factor() > 0.0 {
+                let v_clamp = -10.0 * 0.3 / law.damping_factor();
+                assert_eq!(law.normal_force(1e-5, v_clamp, 0.3), 0.0);
+                assert_eq!(law.normal_force_rate(1e-5, v_clamp, 1e3, 0.3), 0.0);
+            }
         }
     }
 }

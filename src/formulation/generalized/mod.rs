@@ -292,6 +292,24 @@ impl Generalized {
         y[start..start + self.n_dae].copy_from_slice(&work.y);
     }
 
+    /// Clearance joint `k` at the state y whose time derivative is `y_dot`: the DAE's
+    /// [`Dae::contact_motion_state`] at the projected state, with q̈ from the DAE part of
+    /// `y_dot` (the exact accelerations of the projected state).
+    pub fn contact_motion_state(
+        &self,
+        k: usize,
+        t: f64,
+        y: &[f64],
+        y_dot: &[f64],
+    ) -> Result<(super::contacts::SiteState, [f64; 2], f64), FormulationError> {
+        let projected = self.project(t, y)?;
+        let start = self.dae_start();
+        // y_dot comes from the integrator, with n_states entries like y.
+        debug_assert_eq!(y_dot.len(), self.n_states());
+        let dae_dot = &y_dot[start..start + self.n_dae];
+        Ok(self.dae.contact_motion_state(k, &projected, dae_dot))
+    }
+
     /// The DAE state (q, q̇, bookkeeping) of `y` projected onto the constraints with the
     /// partition stored in `y`. Fails where Newton does not converge.
     pub fn project(&self, t: f64, y: &[f64]) -> Result<Vec<f64>, FormulationError> {

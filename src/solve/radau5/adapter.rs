@@ -118,6 +118,10 @@ impl<F: Formulation + ?Sized> Integrator<F> for Radau5Method {
         self.core.solution()
     }
 
+    fn step_slopes(&self) -> Option<(&[f64], &[f64])> {
+        Some(self.core.accepted_slopes())
+    }
+
     fn interpolate(
         &mut self,
         _f: &F,

@@ -98,6 +98,8 @@ pub struct Radau5Core {
     /// End of the last attempt (the accepted state once accepted) and f there.
     y_new: Vec<f64>,
     f_new: Vec<f64>,
+    /// f at the start of the last accepted step (the f0 it started from).
+    f_acc_start: Vec<f64>,
     /// Last accepted step [t_acc − h_acc_step, t_acc] and its collocation polynomial.
     t_acc: f64,
     h_acc_step: f64,
@@ -175,6 +177,7 @@ impl Radau5Core {
             err_rhs: vec![0.0; n],
             y_new: vec![0.0; n],
             f_new: vec![0.0; n],
+            f_acc_start: vec![0.0; n],
             t_acc: f64::NAN,
             h_acc_step: 0.0,
             y_acc: vec![0.0; n],
@@ -226,6 +229,13 @@ impl Radau5Core {
     #[must_use]
     pub fn f_start(&self) -> &[f64] {
         &self.f0
+    }
+
+    /// f at the start and at the end of the last accepted step (exact RHS values: the end one
+    /// is evaluated at the accepted state for the next step's error estimate).
+    #[must_use]
+    pub fn accepted_slopes(&self) -> (&[f64], &[f64]) {
+        (&self.f_acc_start, &self.f0)
     }
 
     /// Marks the attempt rejected with retry size `h_retry`.
@@ -614,6 +624,7 @@ impl Radau5Core {
         self.t_acc = t_new;
         self.h_acc_step = h;
         self.y_acc.copy_from_slice(&self.y_new);
+        self.f_acc_start.copy_from_slice(&self.f0);
         self.f0.copy_from_slice(&self.f_new);
         polynomial_of(&self.z, &mut self.cont);
         self.first = false;
