@@ -8,7 +8,7 @@
 //! `np.loadtxt(f, delimiter=",", skiprows=1)`, pandas' `pd.read_csv(f, comment="#")`. (With
 //! the provenance first, `genfromtxt(names=True)` takes the first comment line for the names.)
 
-use super::format_number;
+use super::push_number;
 use crate::simulation::{Provenance, Sample, SampleSink};
 use crate::solve::SolveError;
 use std::io::Write;
@@ -83,10 +83,10 @@ impl<W: Write> CsvSink<W> {
 impl<W: Write> SampleSink for CsvSink<W> {
     fn sample(&mut self, s: &Sample<'_>) -> Result<(), SolveError> {
         self.line.clear();
-        self.line.push_str(&format_number(s.t));
+        push_number(&mut self.line, s.t);
         for v in s.outputs {
             self.line.push(',');
-            self.line.push_str(&format_number(*v));
+            push_number(&mut self.line, *v);
         }
         self.line.push('\n');
         self.out
