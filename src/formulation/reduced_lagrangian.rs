@@ -762,6 +762,7 @@ impl ReducedLagrangian {
 
     /// The equations of motion at (t, y): everything the right-hand side needs, kept for
     /// [`ReducedLagrangian::outputs`].
+    #[inline(always)] // the right-hand side reads two of its fields: inlined, the rest is not built
     fn dynamics(&self, t: f64, y: &[f64]) -> Result<Dynamics, FormulationError> {
         let [_, _, _, _, stored] = state(y);
         let g = self.gravity;
