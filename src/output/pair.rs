@@ -1,8 +1,10 @@
 //! [`ResultPair`]: a CSV, its JSON summary and any further result files (the impact log),
 //! committed together or not at all.
 
-use super::atomic::AtomicFile;
+use super::atomic::{AtomicFile, create_new};
+use super::journal;
 use super::lock::OutputLock;
+use super::scratch::{self, Kind};
 use super::summary::json_text;
 use super::target::{check_output_file, check_target};
 use super::{OutputError, io_error};
@@ -25,14 +27,19 @@ pub fn impacts_path(csv: &Path) -> PathBuf {
 /// ([`check_target`], [`check_output_file`]), takes the target's [`OutputLock`] and creates the
 /// CSV's temporary file; stream the rows into [`ResultPair::csv`], then [`ResultPair::commit`]
 /// (or [`ResultPair::commit_with_files`]) writes the summary and the further files to their
-/// own temporary files, flushes all to disk and renames each over its target. If anything
-/// fails, or the pair is dropped uncommitted, every temporary file and the lock file are
-/// removed and the earlier files at the targets are left untouched: if a rename fails after
-/// earlier ones succeeded, the files they replaced are put back (kept meanwhile as hard links
-/// `F.<pid>.old`).
+/// own temporary files, flushes all to disk, writes the commit journal `F.csv.commit`
+/// ([`super::journal`]), renames each over its target, flushes the directory and removes the
+/// journal. If anything fails, or the pair is dropped uncommitted, every temporary file and the
+/// lock file are removed and the earlier files at the targets are left untouched: if a rename
+/// fails after earlier ones succeeded, the files they replaced are put back (kept meanwhile as
+/// hard links `.F.linkdyn-<pid>-<nonce>.old`).
 ///
+/// A process killed outright cannot clean up; the next [`ResultPair::begin`] on the same
+/// target does (its [`ResultPair::notes`] say what it did): a commit cut between its renames is
+/// completed from the journal, and leftover temporary files of dead processes are removed.
 /// Between the renames (microseconds) a reader that does not take the lock can see a new file
-/// beside earlier ones; every file carries the full provenance to tell.
+/// beside earlier ones; every file carries the full provenance to tell, and `F.csv.commit`
+/// exists meanwhile.
 pub struct ResultPair {
     csv: AtomicFile,
     json: PathBuf,
@@ -87,29 +94,20 @@ impl ResultPair {
         &self.json
     }
 
-    /// Every scratch file this pair may create besides its targets: the two temporary files,
-    /// the lock file and the backup of the earlier CSV. For a signal handler that must clean up
-    /// when the writing thread cannot.
+    /// What taking the target's lock cleaned up after killed runs ([`OutputLock::notes`]).
+    pub fn notes(&self) -> &[String] {
+        self._lock.notes()
+    }
+
+    /// The scratch files that exist before the commit: the CSV's temporary file and the lock
+    /// file (the other temporary files and the backups are made by the commit, which a signal
+    /// handler lets finish). For a signal handler that must clean up when the writing thread
+    /// cannot.
     pub fn scratch_paths(&self) -> Vec<PathBuf> {
-        let with = |p: &Path, suffix: String| {
-            let mut s = p.as_os_str().to_owned();
-            s.push(suffix);
-            PathBuf::from(s)
-        };
-        let pid = std::process::id();
-        let csv = self.csv.target();
-        let mut paths = vec![
+        vec![
             self.csv.temp_path().to_path_buf(),
-            with(&self.json, format!(".{pid}.tmp")),
-            with(csv, format!(".{pid}.old")),
-            with(&self.json, format!(".{pid}.old")),
-        ];
-        for extra in &self.extras {
-            paths.push(with(extra, format!(".{pid}.tmp")));
-            paths.push(with(extra, format!(".{pid}.old")));
-        }
-        paths.push(OutputLock::path_for(csv));
-        paths
+            OutputLock::path_for(self.csv.target()),
+        ]
     }
 
     /// Writes `summary` as pretty JSON and makes both files appear.
@@ -165,9 +163,31 @@ impl ResultPair {
             file.sync()?;
         }
         csv.sync()?;
+        // From here on every file is whole on disk: the journal lets the next run finish the
+        // renames if this process is killed between them.
+        let renames: Vec<(PathBuf, PathBuf)> = std::iter::once(&csv)
+            .chain(&others)
+            .map(|f| (f.temp_path().to_path_buf(), f.target().to_path_buf()))
+            .collect();
+        let csv_target = csv.target().to_path_buf();
+        journal::write(&csv_target, &renames)?;
+        let result = Self::rename_all(csv, others, &mut before_rename);
+        // Renamed or rolled back: either way the journal has nothing left to do.
+        scratch::sync_dir(&csv_target);
+        journal::remove(&csv_target);
+        result
+    }
+
+    /// Renames `csv`, then each of `others`, over its target; on a failure puts back what was
+    /// replaced so far.
+    fn rename_all(
+        csv: AtomicFile,
+        others: Vec<AtomicFile>,
+        before_rename: &mut impl FnMut(&Path) -> Result<(), OutputError>,
+    ) -> Result<(), OutputError> {
         // Each target's earlier file is kept until all renames succeeded; on a failure every
         // target renamed so far gets its earlier file back (or is removed if it had none).
-        let mut done: Vec<(PathBuf, Backup)> = Vec::with_capacity(2 + extras.len());
+        let mut done: Vec<(PathBuf, Backup)> = Vec::with_capacity(1 + others.len());
         let target = csv.target().to_path_buf();
         let backup = Backup::of(&target)?;
         csv.rename_into_place()?;
@@ -211,15 +231,24 @@ impl Backup {
         if std::fs::symlink_metadata(target).is_err() {
             return Ok(Backup { path: None });
         }
-        let mut p = target.as_os_str().to_owned();
-        p.push(format!(".{}.old", std::process::id()));
-        let path = PathBuf::from(p);
-        let _ = std::fs::remove_file(&path);
-        // A hard link costs nothing; a file system without them gets a copy.
-        if std::fs::hard_link(target, &path).is_err() {
-            std::fs::copy(target, &path).map_err(|e| io_error(target, e))?;
+        // A hard link costs nothing (and, like `O_EXCL`, never replaces an existing name); a
+        // file system without them gets a copy into a file created exclusively.
+        for _ in 0..8 {
+            let path = scratch::scratch_path(target, Kind::Backup);
+            match std::fs::hard_link(target, &path) {
+                Ok(()) => return Ok(Backup { path: Some(path) }),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+                Err(_) => break,
+            }
         }
-        Ok(Backup { path: Some(path) })
+        let (path, mut copy) = create_new(target, Kind::Backup)?;
+        let backup = Backup {
+            path: Some(path.clone()),
+        };
+        std::fs::File::open(target)
+            .and_then(|mut from| std::io::copy(&mut from, &mut copy))
+            .map_err(|e| io_error(target, e))?;
+        Ok(backup)
     }
 
     /// Puts the earlier file back (or removes the new one if there was none).
