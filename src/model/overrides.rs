@@ -14,6 +14,12 @@ use super::laws;
 use super::suggest::did_you_mean;
 use toml::{Table, Value};
 
+/// Most dot-separated parts of a `--set` path. A model's deepest field is about six parts down
+/// (`joints.B.contact.law`); every part of a longer path would become a nested table, which
+/// writing and reading the document back then recurse through (20 000 parts overflowed the
+/// stack).
+pub const MAX_PATH_PARTS: usize = 16;
+
 /// Returns the model text with every override applied, in order, and the notes about fields
 /// dropped by a switch of law.
 pub fn apply(
@@ -37,6 +43,12 @@ pub fn apply(
             .split_once('=')
             .ok_or_else(|| fail("expected KEY=VALUE, e.g. drivers.motor.speed_rpm=3500".into()))?;
         let keys: Vec<&str> = path.trim().split('.').collect();
+        if keys.len() > MAX_PATH_PARTS {
+            return Err(fail(format!(
+                "the path has {} parts; expected at most {MAX_PATH_PARTS} (the deepest field of a model file is a few levels down)",
+                keys.len()
+            )));
+        }
         if keys.iter().any(|k| k.is_empty()) {
             return Err(fail(format!("empty key in path \"{}\"", path.trim())));
         }
