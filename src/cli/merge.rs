@@ -199,10 +199,11 @@ fn merge_files(files: &[PathBuf], kind: Kind) -> Result<String, Failure> {
             return Err(bad(
                 "files",
                 format!(
-                    "{}: point {} has {} rows, expected {per_point} ({what}): the file lost or gained rows",
+                    "{}: point {} has {} row{}, expected {per_point} ({what}): the file lost or gained rows",
                     path.display(),
                     p.index,
-                    p.result.len()
+                    p.result.len(),
+                    if p.result.len() == 1 { "" } else { "s" }
                 ),
             ));
         }
@@ -223,10 +224,7 @@ pub fn run(args: &MergeArgs) -> Result<(), Failure> {
     let verdict_files: Vec<PathBuf> = args.files.iter().map(|f| verdicts_path(f)).collect();
     let outputs = [args.out.clone(), verdicts_path(&args.out)];
     for input in args.files.iter().chain(&verdict_files) {
-        if let Some(out) = outputs
-            .iter()
-            .find(|o| *o == input || same_file(o, input))
-        {
+        if let Some(out) = outputs.iter().find(|o| *o == input || same_file(o, input)) {
             return Err(bad(
                 "out",
                 format!(

@@ -9,7 +9,7 @@
 //! (the `coefficient` left behind by Ambrósio's law would otherwise be refused), and each drop
 //! is reported as a note. A field set again by a later `--set` is then an error as in a file.
 
-use super::error::ModelError;
+use super::error::{ModelError, abbreviate};
 use super::laws;
 use super::suggest::did_you_mean;
 use toml::{Table, Value};
@@ -36,7 +36,7 @@ pub fn apply(
         })?;
     for assignment in overrides {
         let fail = |message: String| ModelError::Override {
-            assignment: assignment.clone(),
+            assignment: abbreviate(assignment),
             message,
         };
         let (path, raw_value) = assignment

@@ -212,7 +212,10 @@ struct Evaluated<'a, 'p> {
 
 impl Scope for Evaluated<'_, '_> {
     fn lookup(&self, name: &str) -> Result<Meaning, String> {
-        if let Some(x) = self.index.get(name).and_then(|&k| self.values.get(k).copied().flatten())
+        if let Some(x) = self
+            .index
+            .get(name)
+            .and_then(|&k| self.values.get(k).copied().flatten())
         {
             return Ok(Meaning::Value(x));
         }
@@ -291,7 +294,8 @@ pub fn evaluate(raw: &[RawParameter<'_>]) -> Result<Vec<(String, f64)>, Paramete
                 }
                 if on_stack[j] {
                     let at = stack.iter().position(|&(k, _)| k == j).unwrap_or(0);
-                    let mut cycle: Vec<&str> = stack[at..].iter().map(|&(k, _)| raw[k].name).collect();
+                    let mut cycle: Vec<&str> =
+                        stack[at..].iter().map(|&(k, _)| raw[k].name).collect();
                     cycle.push(raw[j].name);
                     return Err(ParameterError {
                         index: j,

@@ -116,7 +116,9 @@ pub(crate) fn dir_of(target: &Path) -> &Path {
 /// (`r.csv` → `r.json`, `r.impacts.csv`, `r.verdicts.csv`, `r.csv.commit`).
 pub(crate) fn related(target: &Path, name: &str) -> bool {
     let own = target.file_name().map(|n| n.to_string_lossy());
-    let stem = target.file_stem().map(|s| format!("{}.", s.to_string_lossy()));
+    let stem = target
+        .file_stem()
+        .map(|s| format!("{}.", s.to_string_lossy()));
     own.is_some_and(|o| o == name) || stem.is_some_and(|s| name.starts_with(&s))
 }
 
@@ -169,7 +171,10 @@ mod tests {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         assert_eq!(p.parent(), Some(Path::new("out")));
-        assert_eq!(parse(&name), Some(("r.csv", std::process::id(), Kind::Temp)));
+        assert_eq!(
+            parse(&name),
+            Some(("r.csv", std::process::id(), Kind::Temp))
+        );
         assert_ne!(
             p,
             scratch_path(Path::new("out/r.csv"), Kind::Temp),
