@@ -344,6 +344,18 @@ fn a_commit_killed_between_its_renames_is_completed_from_its_journal() {
     for (name, text) in files {
         let _ = std::fs::write(dir.join(name), text);
     }
+    // A command that reads the CSV meanwhile says that the files may be from two runs.
+    let png = std::env::temp_dir().join(format!("linkdyn-hostile-{}.png", std::process::id()));
+    let (_, _, stderr) = linkdyn(&["plot", "series", &s(&csv), "--y", "x", "--out", &s(&png)]);
+    assert_eq!(
+        stderr.lines().next(),
+        Some(format!(
+            "note: {}.commit exists: a run writing {} was killed between its renames (or is finishing them now), so it and the files beside it may be from different runs; `linkdyn clean {}` completes the commit",
+            csv.display(),
+            csv.display(),
+            csv.display()
+        ).as_str())
+    );
     let (code, _, stderr) = linkdyn(&["clean", &s(&csv)]);
     assert_eq!(
         (code, stderr),

@@ -93,6 +93,22 @@ pub fn load_model(
     Ok(model)
 }
 
+/// Reads a result CSV as a table, first warning (a `note:` on stderr) if its commit journal is
+/// there: a run writing it was killed between its renames (or is committing right now), so the
+/// files beside it may be from two runs until the next run or `linkdyn clean` completes it.
+pub fn read_result(path: &Path) -> Result<linkdyn::plot::Table, linkdyn::plot::PlotError> {
+    let journal = linkdyn::output::journal_path(path);
+    if journal.exists() {
+        eprintln!(
+            "note: {} exists: a run writing {} was killed between its renames (or is finishing them now), so it and the files beside it may be from different runs; `linkdyn clean {}` completes the commit",
+            journal.display(),
+            path.display(),
+            path.display()
+        );
+    }
+    linkdyn::plot::Table::read(path)
+}
+
 /// Exit code for bad input.
 pub const EXIT_BAD_INPUT: u8 = 2;
 /// Exit code for a solver failure.

@@ -172,7 +172,8 @@ impl ResultPair {
         let csv_target = csv.target().to_path_buf();
         journal::write(&csv_target, &renames)?;
         let result = Self::rename_all(csv, others, &mut before_rename);
-        // Renamed or rolled back: either way the journal has nothing left to do.
+        // Every rename is on disk before the journal goes; after a failure (rolled back, or
+        // nothing renamed) the journal has nothing left to do either.
         scratch::sync_dir(&csv_target);
         journal::remove(&csv_target);
         result
@@ -212,6 +213,11 @@ impl ResultPair {
         match result {
             Ok(()) => Ok(()),
             Err(e) => {
+                // Rolling back: the journal must not roll the commit forward any more (the
+                // temporary files not renamed are already gone with the loop's iterator).
+                if let Some((first, _)) = done.first() {
+                    journal::remove(first);
+                }
                 for (target, backup) in done.into_iter().rev() {
                     backup.restore(&target);
                 }
@@ -309,14 +315,29 @@ mod tests {
         assert_eq!(listing(&d), ["r.csv", "r.json"]);
         let mut pair = ResultPair::begin(&csv, None).unwrap_or_else(|e| panic!("{e}"));
         assert!(pair.csv().write_str("new csv\n").is_ok());
+        let mut journal = String::new();
         let failed = pair.commit_with(&"new", &[], |json| {
+            // Between the renames the journal lists them (the CSV's already done).
+            journal = std::fs::read_to_string(journal::journal_path(&d.join("r.csv")))
+                .unwrap_or_default();
             Err(io_error(json, std::io::Error::other("injected failure")))
         });
         assert!(failed.is_err());
+        let lines: Vec<&str> = journal.lines().collect();
+        assert_eq!(lines.len(), 3, "{journal}");
+        assert_eq!(lines[0], "linkdyn commit journal");
+        for (line, target) in lines[1..].iter().zip(["r.csv", "r.json"]) {
+            let (temp, to) = line.split_once('\t').unwrap_or_default();
+            assert_eq!(to, target);
+            assert_eq!(
+                scratch::parse(temp),
+                Some((target, std::process::id(), Kind::Temp))
+            );
+        }
         assert_eq!(
             listing(&d),
             ["r.csv", "r.json"],
-            "no temporary or lock file left"
+            "no temporary, journal or lock file left"
         );
         let read = |p: &str| std::fs::read_to_string(d.join(p)).unwrap_or_default();
         assert_eq!(read("r.csv"), "old csv\n", "earlier CSV restored");
