@@ -223,6 +223,36 @@ fn wait_for(path: &Path, bytes: u64, child: &mut Child) {
     }
 }
 
+/// The temporary file of `target` written by `child`: `.F.linkdyn-<pid>-<nonce>.tmp` in `dir`,
+/// if there is one yet.
+fn temp_of(dir: &Path, target: &str, child: &Child) -> Option<PathBuf> {
+    let prefix = format!(".{target}.linkdyn-{}-", child.id());
+    entries(dir)
+        .into_iter()
+        .find(|n| n.starts_with(&prefix) && n.ends_with(".tmp"))
+        .map(|n| dir.join(n))
+}
+
+/// Waits until `child` has written at least `bytes` to its temporary file of `target` in `dir`
+/// (as [`wait_for`]); returns the file.
+fn wait_for_temp(dir: &Path, target: &str, bytes: u64, child: &mut Child) -> PathBuf {
+    let started = Instant::now();
+    loop {
+        if let Some(t) = temp_of(dir, target, child) {
+            wait_for(&t, bytes, child);
+            return t;
+        }
+        if let Ok(Some(status)) = child.try_wait() {
+            panic!("run ended before its temporary file of {target} appeared: {status}");
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(60),
+            "no temporary file of {target} appeared"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
 fn signal(child: &Child, name: &str) {
     let sent = Command::new("kill")
         .args([format!("-{name}"), child.id().to_string()])
@@ -255,10 +285,9 @@ fn sigterm_or_sigint_mid_run_leaves_nothing_but_the_earlier_pair() {
         short_run(&csv);
         let (before_csv, before_json) = (read(&csv), read(&dir.join("r.json")));
         let mut child = long_run(&csv);
-        let temp = dir.join(format!("r.csv.{}.tmp", child.id()));
         // 64 KiB: the header and hundreds of rows are in the temporary file (one buffer
         // flushed), so the run is integrating and streaming.
-        wait_for(&temp, 1 << 16, &mut child);
+        wait_for_temp(&dir, "r.csv", 1 << 16, &mut child);
         assert!(
             dir.join("r.csv.lock").exists(),
             "{name}: lock held during the run"
@@ -308,8 +337,7 @@ fn a_signal_between_distant_samples_still_leaves_nothing() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap_or_else(|e| panic!("{e}"));
-    let temp = dir.join(format!("r.csv.{}.tmp", child.id()));
-    wait_for(&temp, 0, &mut child);
+    wait_for_temp(&dir, "r.csv", 0, &mut child);
     std::thread::sleep(Duration::from_millis(200));
     signal(&child, "TERM");
     let (code, stderr) = finish(child);

@@ -99,7 +99,7 @@ fn read_result(args: &AnimateArgs) -> Result<(linkdyn::model::Model, Table), Fai
             ),
         });
     }
-    let table = Table::read(&args.input)?;
+    let table = super::read_result(&args.input)?;
     let (model, _) = figures::model_from_provenance(&table).map_err(|reason| Failure {
         code: EXIT_BAD_INPUT,
         message: format!("{}: {reason}", args.input.display()),

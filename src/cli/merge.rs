@@ -1,13 +1,18 @@
 //! `linkdyn merge F1.csv F2.csv … --out F.csv`: joins the shard files of one bifurcation sweep
 //! (and their `.verdicts.csv` files) into one, in index order, after checking that they come
-//! from the same sweep (identical `#` lines and header) and hold every grid point exactly once
-//! ([`linkdyn::analysis::merge`]). The result equals the file of an unsharded run byte for byte.
+//! from the same sweep (identical `#` lines and header), hold every grid point exactly once
+//! ([`linkdyn::analysis::merge`]) and every point whole: `revs − transient_revs` rows (one per
+//! recorded turn) in the data, one in the verdicts. The result equals the file of an unsharded
+//! run byte for byte. `--out` may not name one of the files it reads (their verdicts included),
+//! however spelled: it is written only after all are read, but a failed merge must leave the
+//! inputs as they were.
 
 use super::Failure;
 use super::bifurcation::verdicts_path;
 use super::poincare::{bad, write_whole};
 use clap::Args;
 use linkdyn::analysis::{self, ParameterGrid, SweepPoint};
+use linkdyn::output::same_file;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `merge`.
@@ -92,8 +97,47 @@ fn grid(head: &str, path: &Path) -> Result<ParameterGrid, Failure> {
     Ok(ParameterGrid::new(number("from")?, number("to")?, steps)?)
 }
 
-/// Merges `files` (all with the same head) into one text, checking every point once.
-fn merge_files(files: &[PathBuf]) -> Result<String, Failure> {
+/// Rows of one sweep point in a data file: one per recorded turn, `revs − transient_revs`.
+fn rows_per_point(head: &str, path: &Path) -> Result<usize, Failure> {
+    let count = |key: &str| -> Result<usize, Failure> {
+        setting(head, key)
+            .and_then(|v| v.parse().ok())
+            .ok_or_else(|| {
+                bad(
+                    "files",
+                    format!(
+                        "{} has no readable \"# {key} = …\" line: not a bifurcation result file",
+                        path.display()
+                    ),
+                )
+            })
+    };
+    let (revs, transient) = (count("revs")?, count("transient_revs")?);
+    revs.checked_sub(transient)
+        .filter(|&n| n > 0)
+        .ok_or_else(|| {
+            bad(
+                "files",
+                format!(
+                    "{}: revs = {revs} is not above transient_revs = {transient}",
+                    path.display()
+                ),
+            )
+        })
+}
+
+/// What a file of a sweep holds per point.
+#[derive(Clone, Copy)]
+enum Kind {
+    /// The data: one row per recorded turn.
+    Data,
+    /// The verdicts: one row per point.
+    Verdicts,
+}
+
+/// Merges `files` (all with the same head) into one text, checking every point once and
+/// whole (its expected number of rows, by `kind`).
+fn merge_files(files: &[PathBuf], kind: Kind) -> Result<String, Failure> {
     let mut parsed = Vec::with_capacity(files.len());
     for f in files {
         parsed.push((f, parse(f)?));
@@ -102,6 +146,10 @@ fn merge_files(files: &[PathBuf]) -> Result<String, Failure> {
         return Err(bad("files", "expected at least one file"));
     };
     let grid = grid(&first.head, first_path)?;
+    let per_point = match kind {
+        Kind::Data => rows_per_point(&first.head, first_path)?,
+        Kind::Verdicts => 1,
+    };
     let mut parts = Vec::with_capacity(parsed.len());
     for (path, p) in &parsed {
         if p.head != first.head {
@@ -142,6 +190,23 @@ fn merge_files(files: &[PathBuf]) -> Result<String, Failure> {
                 }),
             }
         }
+        // A point with rows lost (a truncated or edited shard) or added is not whole.
+        if let Some(p) = points.iter().find(|p| p.result.len() != per_point) {
+            let what = match kind {
+                Kind::Data => "one per recorded turn, revs − transient_revs",
+                Kind::Verdicts => "one verdict per point",
+            };
+            return Err(bad(
+                "files",
+                format!(
+                    "{}: point {} has {} row{}, expected {per_point} ({what}): the file lost or gained rows",
+                    path.display(),
+                    p.index,
+                    p.result.len(),
+                    if p.result.len() == 1 { "" } else { "s" }
+                ),
+            ));
+        }
         parts.push(points);
     }
     let merged = analysis::merge(&grid, parts)?;
@@ -157,23 +222,28 @@ fn merge_files(files: &[PathBuf]) -> Result<String, Failure> {
 /// Runs `merge`.
 pub fn run(args: &MergeArgs) -> Result<(), Failure> {
     let verdict_files: Vec<PathBuf> = args.files.iter().map(|f| verdicts_path(f)).collect();
+    let outputs = [args.out.clone(), verdicts_path(&args.out)];
+    for input in args.files.iter().chain(&verdict_files) {
+        if let Some(out) = outputs.iter().find(|o| *o == input || same_file(o, input)) {
+            return Err(bad(
+                "out",
+                format!(
+                    "{} would overwrite {}, one of the files to merge; choose another name",
+                    out.display(),
+                    input.display()
+                ),
+            ));
+        }
+    }
     let have_verdicts = verdict_files.iter().all(|f| f.exists());
     // The verdicts mark finished points: check them first, so that an unfinished shard is
     // reported as missing points.
     let verdicts = if have_verdicts {
-        Some(merge_files(&verdict_files)?)
+        Some(merge_files(&verdict_files, Kind::Verdicts)?)
     } else {
         None
     };
-    let data = merge_files(&args.files)?;
-    for f in &args.files {
-        if f == &args.out {
-            return Err(bad(
-                "out",
-                format!("{} is one of the files to merge", f.display()),
-            ));
-        }
-    }
+    let data = merge_files(&args.files, Kind::Data)?;
     let model = Path::new("");
     write_whole(&args.out, model, &data)?;
     if let Some(v) = verdicts {

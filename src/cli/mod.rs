@@ -9,6 +9,7 @@ mod animate;
 mod args;
 mod bifurcation;
 mod check;
+mod clean;
 mod compare;
 mod interrupt;
 mod lyapunov;
@@ -72,6 +73,9 @@ enum Command {
     Stress(stress::StressArgs),
     /// Error against run time for every formulation × method × tolerance (CSV, markdown, plot).
     Workprecision(workprecision::WorkPrecisionArgs),
+    /// Complete or remove what runs killed outright left beside result files (temporary files,
+    /// a commit cut between its renames, a stale lock); every run on a target does this first.
+    Clean(clean::CleanArgs),
 }
 
 /// Loads a model file with its `--set` overrides, makes the clearance joints named by `--ideal`
@@ -87,6 +91,22 @@ pub fn load_model(
         eprintln!("note: {note}");
     }
     Ok(model)
+}
+
+/// Reads a result CSV as a table, first warning (a `note:` on stderr) if its commit journal is
+/// there: a run writing it was killed between its renames (or is committing right now), so the
+/// files beside it may be from two runs until the next run or `linkdyn clean` completes it.
+pub fn read_result(path: &Path) -> Result<linkdyn::plot::Table, linkdyn::plot::PlotError> {
+    let journal = linkdyn::output::journal_path(path);
+    if journal.exists() {
+        eprintln!(
+            "note: {} exists: a run writing {} was killed between its renames (or is finishing them now), so it and the files beside it may be from different runs; `linkdyn clean {}` completes the commit",
+            journal.display(),
+            path.display(),
+            path.display()
+        );
+    }
+    linkdyn::plot::Table::read(path)
 }
 
 /// Exit code for bad input.
@@ -195,8 +215,24 @@ fn message(e: &Error) -> String {
     }
 }
 
+/// Makes exceeding the file-size limit (`ulimit -f`) a write error instead of a kill.
+///
+/// By default the kernel ends a process with SIGXFSZ when a write would pass the limit, before
+/// any cleanup can run: the temporary file and the lock stay. Ignored, the write fails with
+/// EFBIG ("File too large"), which ends the run like any failed write (exit 4, temporary files
+/// removed).
+fn ignore_file_size_signal() {
+    #[cfg(unix)]
+    // SAFETY: setting a signal's disposition to SIG_IGN installs no handler code; it runs
+    // before any thread is started.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+}
+
 /// Entry point of the binary.
 pub fn main() -> ExitCode {
+    ignore_file_size_signal();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
@@ -223,6 +259,7 @@ pub fn main() -> ExitCode {
         Command::Stress(args) => stress::run(&args),
         Command::Workprecision(args) => workprecision::run(&args),
         Command::Animate(args) => animate::run(&args),
+        Command::Clean(args) => clean::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

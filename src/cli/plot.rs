@@ -4,7 +4,7 @@
 
 use super::{EXIT_BAD_INPUT, EXIT_OUTPUT, Failure};
 use clap::{Args, Subcommand};
-use linkdyn::plot::{Figure, PlotError, Table, figures, render};
+use linkdyn::plot::{Figure, PlotError, figures, render};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `plot`.
@@ -148,7 +148,7 @@ impl From<PlotError> for Failure {
 
 /// Runs `plot`.
 pub fn run(args: &PlotArgs) -> Result<(), Failure> {
-    let read = |p: &Path| Table::read(p);
+    let read = |p: &Path| super::read_result(p);
     let (mut fig, common): (Figure, &Common) = match &args.kind {
         Kind::Series {
             file,

@@ -62,6 +62,9 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     }
     let mut pair =
         ResultPair::begin_with(&args.out, Some(&args.model), &[impacts_path(&args.out)])?;
+    for note in pair.notes() {
+        eprintln!("note: {note}");
+    }
     interrupt::remove_on_abort(pair.scratch_paths());
     let result = match args.format {
         Format::Csv => run_csv(&sim, &mut pair, args),

@@ -5,7 +5,7 @@
 //! numerics. Whether the linkage can be assembled is checked by the formulation.
 
 use super::bounds::*;
-use super::error::ModelError;
+use super::error::{ModelError, abbreviate};
 use super::expr::{self, Expr, ExprError, Table};
 use super::file::*;
 use super::laws;
@@ -163,7 +163,7 @@ impl Builder<'_, '_> {
         let start = span.start + self.loc.string_body_offset(span.start) + e.offset;
         self.err(
             start..start + 1,
-            format!("in expression \"{text}\": {}", e.message),
+            format!("in expression \"{}\": {}", abbreviate(text), e.message),
         )
     }
 

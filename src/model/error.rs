@@ -55,6 +55,17 @@ pub enum ModelError {
     },
 }
 
+/// `text` as quoted in a message: whole up to 80 characters, else its first 60 and the length,
+/// so that a hostile value (an expression of 15 000 terms, a path of 20 000 parts) does not
+/// fill the terminal; the message still says where and what is wrong.
+pub(crate) fn abbreviate(text: &str) -> String {
+    if text.chars().count() <= 80 {
+        return text.to_string();
+    }
+    let head: String = text.chars().take(60).collect();
+    format!("{head}… ({} characters)", text.chars().count())
+}
+
 impl ModelError {
     /// Re-locates an error found after `--set` overrides were applied: its line and column
     /// refer to the re-serialised document, so they are replaced by those of the same field in
@@ -73,7 +84,7 @@ impl ModelError {
                     .rev()
                     .find(|o| o.split_once('=').is_some_and(|(k, _)| k.trim() == field));
                 let message = match from_set {
-                    Some(o) => format!("{message} (value from --set {o})"),
+                    Some(o) => format!("{message} (value from --set {})", abbreviate(o)),
                     None => format!("{message} (after --set overrides)"),
                 };
                 match super::locate::span_of_path(text, &field) {

@@ -571,12 +571,27 @@ impl Token {
     }
 }
 
+/// Most tokens (numbers, names, operators, parentheses, commas) in one expression. The tree of a
+/// long sum or product is as deep as it has terms, and resolving, evaluating, differentiating
+/// and dropping it recurse that deep: 1000 tokens keep that recursion far inside the smallest
+/// stack it runs on (2 MiB, a worker thread of a sweep), where 15 000 terms overflowed the main
+/// thread's 8 MiB. A hand-written expression has a few dozen.
+pub const MAX_TOKENS: usize = 1000;
+
 fn tokenize(text: &str) -> Result<Vec<Token>, ExprError> {
     let bytes = text.as_bytes();
     let mut out = Vec::new();
     let mut i = 0;
     while i < bytes.len() {
         let c = bytes[i];
+        if out.len() == MAX_TOKENS && !c.is_ascii_whitespace() {
+            return fail(
+                i,
+                format!(
+                    "expression longer than {MAX_TOKENS} tokens (numbers, names, operators, parentheses); expected at most {MAX_TOKENS}: move parts of it into [parameters]"
+                ),
+            );
+        }
         if c.is_ascii_whitespace() {
             i += 1;
         } else if c.is_ascii_digit()

@@ -181,14 +181,57 @@ fn errors_name_the_token_and_what_was_expected() {
 
 #[test]
 fn hostile_nesting_is_refused_not_a_stack_overflow() {
-    let deep = format!("{}1{}", "(".repeat(100_000), ")".repeat(100_000));
+    let deep = format!("{}1{}", "(".repeat(150), ")".repeat(150));
     assert_eq!(
         error(&deep).1,
         "expression nested more than 100 levels deep"
     );
     assert_eq!(
-        error(&"-".repeat(100_000)).1,
+        error(&"-".repeat(500)).1,
         "expression nested more than 100 levels deep"
     );
+    // Longer still, the token limit comes first.
+    let deeper = format!("{}1{}", "(".repeat(100_000), ")".repeat(100_000));
+    assert_eq!(
+        error(&deeper),
+        (
+            1000,
+            "expression longer than 1000 tokens (numbers, names, operators, parentheses); expected at most 1000: move parts of it into [parameters]".to_string()
+        )
+    );
     close(&format!("{}1{}", "(".repeat(40), ")".repeat(40)), 1.0);
+}
+
+#[test]
+fn a_long_sum_is_refused_past_the_token_limit_and_works_below_it() {
+    // 15 000 terms overflowed the stack when resolved; now the 1001st token is refused.
+    let long = vec!["1"; 15_000].join("+");
+    assert_eq!(
+        error(&long),
+        (
+            1000,
+            "expression longer than 1000 tokens (numbers, names, operators, parentheses); expected at most 1000: move parts of it into [parameters]".to_string()
+        )
+    );
+    // The deepest tree 1000 tokens make: a sum of 500 terms that cannot be folded (t varies),
+    // 499 levels deep. Resolved, evaluated, differentiated, cloned and dropped on a thread
+    // with half the stack of a sweep's worker (1 MiB of 2 MiB), in any build profile.
+    let sum = vec!["t"; 500].join("+");
+    let worker = std::thread::Builder::new()
+        .stack_size(1 << 20)
+        .spawn(move || {
+            let names = Names(HashMap::new());
+            let e = parse(&sum)
+                .and_then(|n| n.resolve(&names))
+                .map_err(|e| e.message)?;
+            let copy = e.clone();
+            let v = copy.eval(&|_| 2.0);
+            let jet = e.eval_jet(2.0);
+            Ok::<_, String>((v, jet.0[1], e.reads_state()))
+        })
+        .map(|h| h.join());
+    match worker {
+        Ok(Ok(r)) => assert_eq!(r, Ok((1000.0, 500.0, false))),
+        _ => panic!("the 500-term sum did not finish on a 1 MiB stack"),
+    }
 }

@@ -9,10 +9,16 @@
 //! (the `coefficient` left behind by Ambrósio's law would otherwise be refused), and each drop
 //! is reported as a note. A field set again by a later `--set` is then an error as in a file.
 
-use super::error::ModelError;
+use super::error::{ModelError, abbreviate};
 use super::laws;
 use super::suggest::did_you_mean;
 use toml::{Table, Value};
+
+/// Most dot-separated parts of a `--set` path. A model's deepest field is about six parts down
+/// (`joints.B.contact.law`); every part of a longer path would become a nested table, which
+/// writing and reading the document back then recurse through (20 000 parts overflowed the
+/// stack).
+pub const MAX_PATH_PARTS: usize = 16;
 
 /// Returns the model text with every override applied, in order, and the notes about fields
 /// dropped by a switch of law.
@@ -30,13 +36,19 @@ pub fn apply(
         })?;
     for assignment in overrides {
         let fail = |message: String| ModelError::Override {
-            assignment: assignment.clone(),
+            assignment: abbreviate(assignment),
             message,
         };
         let (path, raw_value) = assignment
             .split_once('=')
             .ok_or_else(|| fail("expected KEY=VALUE, e.g. drivers.motor.speed_rpm=3500".into()))?;
         let keys: Vec<&str> = path.trim().split('.').collect();
+        if keys.len() > MAX_PATH_PARTS {
+            return Err(fail(format!(
+                "the path has {} parts; expected at most {MAX_PATH_PARTS} (the deepest field of a model file is a few levels down)",
+                keys.len()
+            )));
+        }
         if keys.iter().any(|k| k.is_empty()) {
             return Err(fail(format!("empty key in path \"{}\"", path.trim())));
         }

@@ -9,6 +9,7 @@
 use super::expr::{self, ExprError, Meaning, Scope, Table, Variable};
 use super::suggest::did_you_mean;
 use super::types::{Body, BodyId, Frame};
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// Names every numeric field may use: evaluated parameters, tables, a repeat index.
@@ -185,7 +186,63 @@ pub struct ParameterError {
     pub message: String,
 }
 
+/// Longest chain of parameters each naming the next that is evaluated. Hand-written files
+/// have chains of a few; a longer one is generated, and refusing it up front keeps load time
+/// and the error message small.
+pub const MAX_CHAIN: usize = 1000;
+
+/// The error for parameter `i` at the end of a chain longer than [`MAX_CHAIN`].
+fn too_long(raw: &[RawParameter<'_>], i: usize) -> ParameterError {
+    ParameterError {
+        index: i,
+        offset: None,
+        message: format!(
+            "parameter {} depends on a chain of more than {MAX_CHAIN} parameters each naming the next; expected at most {MAX_CHAIN}",
+            raw.get(i).map_or("?", |p| p.name)
+        ),
+    }
+}
+
+/// The parameters evaluated so far, by name: the scope of a parameter's expression.
+struct Evaluated<'a, 'p> {
+    raw: &'a [RawParameter<'p>],
+    index: &'a HashMap<&'p str, usize>,
+    values: &'a [Option<f64>],
+}
+
+impl Scope for Evaluated<'_, '_> {
+    fn lookup(&self, name: &str) -> Result<Meaning, String> {
+        if let Some(x) = self
+            .index
+            .get(name)
+            .and_then(|&k| self.values.get(k).copied().flatten())
+        {
+            return Ok(Meaning::Value(x));
+        }
+        // The message (with its did-you-mean over the evaluated names) as for any field.
+        Values {
+            values: self
+                .raw
+                .iter()
+                .zip(self.values)
+                .filter_map(|(p, v)| v.map(|x| (p.name.to_string(), x)))
+                .collect(),
+            tables: Vec::new(),
+        }
+        .lookup(name)
+    }
+
+    fn table(&self, _name: &str) -> Option<Arc<Table>> {
+        None
+    }
+}
+
 /// Evaluates every parameter, in dependency order; `tables` are not visible to parameters.
+///
+/// A depth-first walk with its own stack (not recursion: a long chain cannot overflow the
+/// thread's stack) and names looked up in a hash map, so the time is linear in the size of the
+/// parameters. Errors: a cycle (every parameter on it named), a chain longer than
+/// [`MAX_CHAIN`], or an expression that does not parse or names an unknown parameter.
 pub fn evaluate(raw: &[RawParameter<'_>]) -> Result<Vec<(String, f64)>, ParameterError> {
     let mut parsed = Vec::with_capacity(raw.len());
     for (index, p) in raw.iter().enumerate() {
@@ -198,10 +255,91 @@ pub fn evaluate(raw: &[RawParameter<'_>]) -> Result<Vec<(String, f64)>, Paramete
             })?),
         });
     }
+    let mut index: HashMap<&str, usize> = HashMap::with_capacity(raw.len());
+    for (k, p) in raw.iter().enumerate() {
+        index.entry(p.name).or_insert(k);
+    }
+    // The parameters each one names, in order of appearance.
+    let deps: Vec<Vec<usize>> = parsed
+        .iter()
+        .map(|node| {
+            let mut names = Vec::new();
+            if let Some(node) = node {
+                node.names(&mut names);
+            }
+            names
+                .iter()
+                .filter_map(|(n, _)| index.get(n.as_str()).copied())
+                .collect()
+        })
+        .collect();
     let mut values: Vec<Option<f64>> = raw.iter().map(|p| p.value.ok()).collect();
-    let mut stack = Vec::new();
-    for i in 0..raw.len() {
-        visit(i, raw, &parsed, &mut values, &mut stack)?;
+    let mut on_stack = vec![false; raw.len()];
+    // Longest chain of expression parameters ending at each (0: a number), whatever the order
+    // of declaration.
+    let mut depth = vec![0usize; raw.len()];
+    for root in 0..raw.len() {
+        if values[root].is_some() {
+            continue;
+        }
+        // (parameter, how many of its names are done)
+        let mut stack: Vec<(usize, usize)> = vec![(root, 0)];
+        on_stack[root] = true;
+        while let Some(top) = stack.last_mut() {
+            let (i, next) = *top;
+            if let Some(&j) = deps[i].get(next) {
+                top.1 += 1;
+                if values[j].is_some() || parsed[j].is_none() {
+                    continue;
+                }
+                if on_stack[j] {
+                    let at = stack.iter().position(|&(k, _)| k == j).unwrap_or(0);
+                    let mut cycle: Vec<&str> =
+                        stack[at..].iter().map(|&(k, _)| raw[k].name).collect();
+                    cycle.push(raw[j].name);
+                    return Err(ParameterError {
+                        index: j,
+                        offset: None,
+                        message: format!(
+                            "parameters refer to each other in a cycle: {}",
+                            cycle.join(" -> ")
+                        ),
+                    });
+                }
+                // The stack is a chain of parameters each naming the next.
+                if stack.len() >= MAX_CHAIN {
+                    return Err(too_long(raw, root));
+                }
+                on_stack[j] = true;
+                stack.push((j, 0));
+                continue;
+            }
+            let scope = Evaluated {
+                raw,
+                index: &index,
+                values: &values,
+            };
+            let d = 1 + deps[i].iter().map(|&j| depth[j]).max().unwrap_or(0);
+            if d > MAX_CHAIN {
+                return Err(too_long(raw, i));
+            }
+            depth[i] = d;
+            let x = match &parsed[i] {
+                Some(node) => node
+                    .resolve(&scope)
+                    .map_err(|e: ExprError| ParameterError {
+                        index: i,
+                        offset: Some(e.offset),
+                        message: e.message,
+                    })?
+                    .constant()
+                    .unwrap_or(f64::NAN),
+                None => f64::NAN,
+            };
+            values[i] = Some(x);
+            on_stack[i] = false;
+            stack.pop();
+        }
     }
     Ok(raw
         .iter()
@@ -210,59 +348,69 @@ pub fn evaluate(raw: &[RawParameter<'_>]) -> Result<Vec<(String, f64)>, Paramete
         .collect())
 }
 
-fn visit(
-    i: usize,
-    raw: &[RawParameter<'_>],
-    parsed: &[Option<expr::Node>],
-    values: &mut Vec<Option<f64>>,
-    stack: &mut Vec<usize>,
-) -> Result<(), ParameterError> {
-    if values.get(i).copied().flatten().is_some() {
-        return Ok(());
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Parameters `p0 = 1`, then `p_k = "p_{k-1} + 1"` for k = 1..=n, declared in order or
+    /// reversed.
+    fn chain(n: usize, reversed: bool) -> (Vec<String>, Vec<String>) {
+        let names: Vec<String> = (0..=n).map(|k| format!("p{k}")).collect();
+        let mut texts: Vec<String> = (0..=n)
+            .map(|k| {
+                if k == 0 {
+                    String::new()
+                } else {
+                    format!("p{} + 1", k - 1)
+                }
+            })
+            .collect();
+        let mut names = names;
+        if reversed {
+            names.reverse();
+            texts.reverse();
+        }
+        (names, texts)
     }
-    let Some(Some(node)) = parsed.get(i) else {
-        return Ok(());
-    };
-    if let Some(at) = stack.iter().position(|&k| k == i) {
-        let mut cycle: Vec<&str> = stack[at..].iter().map(|&k| raw[k].name).collect();
-        cycle.push(raw[i].name);
-        return Err(ParameterError {
-            index: i,
-            offset: None,
-            message: format!(
-                "parameters refer to each other in a cycle: {}",
-                cycle.join(" -> ")
-            ),
-        });
+
+    fn run(names: &[String], texts: &[String]) -> Result<Vec<(String, f64)>, String> {
+        let raw: Vec<RawParameter<'_>> = names
+            .iter()
+            .zip(texts)
+            .map(|(n, t)| RawParameter {
+                name: n,
+                value: if t.is_empty() { Ok(1.0) } else { Err(t) },
+            })
+            .collect();
+        evaluate(&raw).map_err(|e| format!("{}: {}", raw[e.index].name, e.message))
     }
-    stack.push(i);
-    let mut names = Vec::new();
-    node.names(&mut names);
-    for (name, _) in &names {
-        if let Some(k) = raw.iter().position(|p| p.name == name) {
-            visit(k, raw, parsed, values, stack)?;
+
+    #[test]
+    fn a_chain_of_the_limit_evaluates_in_either_order_and_one_more_is_refused() {
+        for reversed in [false, true] {
+            let (names, texts) = chain(MAX_CHAIN, reversed);
+            let values = run(&names, &texts).unwrap_or_else(|e| panic!("{e}"));
+            let last = values.iter().find(|(n, _)| n == "p1000").map(|v| v.1);
+            assert_eq!(last, Some(1001.0), "reversed: {reversed}");
+            let (names, texts) = chain(MAX_CHAIN + 1, reversed);
+            // Either way the parameter at the end of the chain is named.
+            assert_eq!(
+                run(&names, &texts).err().as_deref(),
+                Some(
+                    "p1001: parameter p1001 depends on a chain of more than 1000 parameters each naming the next; expected at most 1000"
+                ),
+                "reversed: {reversed}"
+            );
         }
     }
-    stack.pop();
-    let known = Values {
-        values: raw
-            .iter()
-            .zip(values.iter())
-            .filter_map(|(p, v)| v.map(|x| (p.name.to_string(), x)))
-            .collect(),
-        tables: Vec::new(),
-    };
-    let x = node
-        .resolve(&known)
-        .map_err(|e: ExprError| ParameterError {
-            index: i,
-            offset: Some(e.offset),
-            message: e.message,
-        })?
-        .constant()
-        .unwrap_or(f64::NAN);
-    if let Some(slot) = values.get_mut(i) {
-        *slot = Some(x);
+
+    #[test]
+    fn a_cycle_is_named_in_full() {
+        let names = ["a", "b", "c"].map(String::from);
+        let texts = ["b", "c", "a + 1"].map(String::from);
+        assert_eq!(
+            run(&names, &texts).err().as_deref(),
+            Some("a: parameters refer to each other in a cycle: a -> b -> c -> a")
+        );
     }
-    Ok(())
 }

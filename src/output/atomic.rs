@@ -1,9 +1,13 @@
 //! Files that appear whole or not at all: content goes to a temporary file in the same
-//! directory (`F.<pid>.tmp`), which is renamed over the target only once everything is written
-//! and flushed to disk. Dropping an uncommitted file removes its temporary file.
+//! directory (`.F.linkdyn-<pid>-<nonce>.tmp`, created exclusively; see [`super::scratch`] for
+//! the name and for how a later run removes those of killed runs), which is renamed over the
+//! target only once everything is written and flushed to disk; the directory is then flushed
+//! too, so that the rename survives a power cut. Dropping an uncommitted file removes its
+//! temporary file.
 
+use super::scratch::{self, Kind};
 use super::{OutputError, io_error};
-use std::fs::File;
+use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
@@ -17,12 +21,10 @@ pub struct AtomicFile {
 }
 
 impl AtomicFile {
-    /// Starts writing `target` (through `target.<pid>.tmp` beside it).
+    /// Starts writing `target` (through `.F.linkdyn-<pid>-<nonce>.tmp` beside it, created
+    /// exclusively: an existing file or link of that name is never opened).
     pub fn create(target: &Path) -> Result<Self, OutputError> {
-        let mut temp = target.as_os_str().to_owned();
-        temp.push(format!(".{}.tmp", std::process::id()));
-        let temp = PathBuf::from(temp);
-        let file = File::create(&temp).map_err(|e| io_error(target, e))?;
+        let (temp, file) = create_new(target, Kind::Temp)?;
         Ok(AtomicFile {
             target: target.to_path_buf(),
             temp,
@@ -70,11 +72,33 @@ impl AtomicFile {
         Ok(())
     }
 
-    /// Flushes the content to disk and renames the temporary file over the target.
+    /// Flushes the content to disk, renames the temporary file over the target and flushes
+    /// the directory.
     pub fn commit(mut self) -> Result<(), OutputError> {
         self.sync()?;
-        self.rename_into_place()
+        let target = self.target.clone();
+        self.rename_into_place()?;
+        scratch::sync_dir(&target);
+        Ok(())
     }
+}
+
+/// Creates a fresh scratch file of `kind` for `target` (`O_EXCL`), trying new names while one
+/// exists (a name is 64 random bits: a clash is a leftover or a planted file, not bad luck).
+pub(crate) fn create_new(target: &Path, kind: Kind) -> Result<(PathBuf, File), OutputError> {
+    let mut last = None;
+    for _ in 0..8 {
+        let path = scratch::scratch_path(target, kind);
+        match OpenOptions::new().write(true).create_new(true).open(&path) {
+            Ok(file) => return Ok((path, file)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
+            Err(e) => return Err(io_error(target, e)),
+        }
+    }
+    Err(io_error(
+        target,
+        last.unwrap_or_else(|| std::io::Error::other("no free temporary file name")),
+    ))
 }
 
 impl Drop for AtomicFile {

@@ -8,6 +8,12 @@
 //! left behind; because a run may have opened the file just before it was removed, a lock is
 //! only accepted once the path is seen to still name the very file that was locked (else the
 //! run opens the new file and tries again).
+//!
+//! The lock also makes a run the one to clean up after a killed one: a process killed outright
+//! leaves its lock file (no holder: the kernel released the `flock`), its temporary files and
+//! perhaps a half-done commit. Whoever takes the lock next first completes such a commit
+//! ([`super::journal`]), then removes the temporary files of the target whose writers are dead
+//! ([`super::scratch`]); [`OutputLock::notes`] says what was done.
 
 use super::{OutputError, io_error};
 use std::fs::{File, OpenOptions, TryLockError};
@@ -18,6 +24,7 @@ use std::path::{Path, PathBuf};
 pub struct OutputLock {
     path: PathBuf,
     file: Option<File>,
+    notes: Vec<String>,
 }
 
 /// Attempts at opening and locking before giving up on a lock file that keeps being replaced.
@@ -53,16 +60,38 @@ impl OutputLock {
                 Err(TryLockError::Error(e)) => return Err(io_error(&path, e)),
             }
             if still_named(&path, &file) {
-                return Ok(OutputLock {
+                let mut lock = OutputLock {
                     path,
                     file: Some(file),
-                });
+                    notes: Vec::new(),
+                };
+                // The commit first: it needs the temporary files that the cleanup would remove.
+                lock.notes.extend(super::journal::complete(target)?);
+                let removed = super::scratch::remove_stale(target);
+                if !removed.is_empty() {
+                    lock.notes.push(format!(
+                        "removed {} temporary file{} of killed runs beside {}: {}",
+                        removed.len(),
+                        if removed.len() == 1 { "" } else { "s" },
+                        target.display(),
+                        removed.join(", ")
+                    ));
+                }
+                return Ok(lock);
             }
         }
         Err(io_error(
             &path,
             std::io::Error::other("the lock file keeps being replaced"),
         ))
+    }
+}
+
+impl OutputLock {
+    /// What taking the lock cleaned up after killed runs (a completed commit, removed
+    /// temporary files), one sentence each; empty if nothing was left.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
     }
 }
 

@@ -9,7 +9,10 @@
 //!   target, all are flushed to disk, then all are renamed over their targets (the earlier
 //!   files are restored if a later rename fails);
 //!   a lock file held from the first write to the commit keeps two runs on the same target
-//!   from mixing their files; [`check_target`] refuses targets that are not regular files;
+//!   from mixing their files; a commit journal (`F.csv.commit`) lets the next run complete a
+//!   commit cut between its renames, and that run removes the temporary files of killed runs
+//!   (named after their process: `.F.linkdyn-<pid>-<nonce>.tmp`);
+//!   [`check_target`] refuses targets that are not regular files;
 //! * [`write_npz`] writes a run kept in memory as a NumPy `.npz` archive (one array per
 //!   column, the provenance as JSON), for the same [`ResultPair`] in place of the CSV;
 //! * [`AtomicFile`] is one such file on its own (temporary file + rename).
@@ -17,9 +20,11 @@
 mod atomic;
 mod csv;
 mod impacts;
+mod journal;
 mod lock;
 mod npz;
 mod pair;
+mod scratch;
 mod summary;
 mod target;
 
@@ -27,11 +32,12 @@ pub use crate::simulation::{Provenance, format_number, push_number};
 pub use atomic::AtomicFile;
 pub use csv::{CsvSink, csv_header};
 pub use impacts::{IMPACTS_HEADER, impacts_csv};
+pub use journal::journal_path;
 pub use lock::OutputLock;
 pub use npz::{PROVENANCE_MEMBER, check_npz_size, write_npz};
 pub use pair::{ResultPair, impacts_path, summary_path};
 pub use summary::write_json;
-pub use target::{check_output_file, check_target};
+pub use target::{check_output_file, check_target, same_file};
 
 use thiserror::Error;
 

@@ -1,8 +1,10 @@
 //! [`ResultPair`]: a CSV, its JSON summary and any further result files (the impact log),
 //! committed together or not at all.
 
-use super::atomic::AtomicFile;
+use super::atomic::{AtomicFile, create_new};
+use super::journal;
 use super::lock::OutputLock;
+use super::scratch::{self, Kind};
 use super::summary::json_text;
 use super::target::{check_output_file, check_target};
 use super::{OutputError, io_error};
@@ -25,14 +27,19 @@ pub fn impacts_path(csv: &Path) -> PathBuf {
 /// ([`check_target`], [`check_output_file`]), takes the target's [`OutputLock`] and creates the
 /// CSV's temporary file; stream the rows into [`ResultPair::csv`], then [`ResultPair::commit`]
 /// (or [`ResultPair::commit_with_files`]) writes the summary and the further files to their
-/// own temporary files, flushes all to disk and renames each over its target. If anything
-/// fails, or the pair is dropped uncommitted, every temporary file and the lock file are
-/// removed and the earlier files at the targets are left untouched: if a rename fails after
-/// earlier ones succeeded, the files they replaced are put back (kept meanwhile as hard links
-/// `F.<pid>.old`).
+/// own temporary files, flushes all to disk, writes the commit journal `F.csv.commit`
+/// ([`super::journal`]), renames each over its target, flushes the directory and removes the
+/// journal. If anything fails, or the pair is dropped uncommitted, every temporary file and the
+/// lock file are removed and the earlier files at the targets are left untouched: if a rename
+/// fails after earlier ones succeeded, the files they replaced are put back (kept meanwhile as
+/// hard links `.F.linkdyn-<pid>-<nonce>.old`).
 ///
+/// A process killed outright cannot clean up; the next [`ResultPair::begin`] on the same
+/// target does (its [`ResultPair::notes`] say what it did): a commit cut between its renames is
+/// completed from the journal, and leftover temporary files of dead processes are removed.
 /// Between the renames (microseconds) a reader that does not take the lock can see a new file
-/// beside earlier ones; every file carries the full provenance to tell.
+/// beside earlier ones; every file carries the full provenance to tell, and `F.csv.commit`
+/// exists meanwhile.
 pub struct ResultPair {
     csv: AtomicFile,
     json: PathBuf,
@@ -87,29 +94,20 @@ impl ResultPair {
         &self.json
     }
 
-    /// Every scratch file this pair may create besides its targets: the two temporary files,
-    /// the lock file and the backup of the earlier CSV. For a signal handler that must clean up
-    /// when the writing thread cannot.
+    /// What taking the target's lock cleaned up after killed runs ([`OutputLock::notes`]).
+    pub fn notes(&self) -> &[String] {
+        self._lock.notes()
+    }
+
+    /// The scratch files that exist before the commit: the CSV's temporary file and the lock
+    /// file (the other temporary files and the backups are made by the commit, which a signal
+    /// handler lets finish). For a signal handler that must clean up when the writing thread
+    /// cannot.
     pub fn scratch_paths(&self) -> Vec<PathBuf> {
-        let with = |p: &Path, suffix: String| {
-            let mut s = p.as_os_str().to_owned();
-            s.push(suffix);
-            PathBuf::from(s)
-        };
-        let pid = std::process::id();
-        let csv = self.csv.target();
-        let mut paths = vec![
+        vec![
             self.csv.temp_path().to_path_buf(),
-            with(&self.json, format!(".{pid}.tmp")),
-            with(csv, format!(".{pid}.old")),
-            with(&self.json, format!(".{pid}.old")),
-        ];
-        for extra in &self.extras {
-            paths.push(with(extra, format!(".{pid}.tmp")));
-            paths.push(with(extra, format!(".{pid}.old")));
-        }
-        paths.push(OutputLock::path_for(csv));
-        paths
+            OutputLock::path_for(self.csv.target()),
+        ]
     }
 
     /// Writes `summary` as pretty JSON and makes both files appear.
@@ -165,9 +163,32 @@ impl ResultPair {
             file.sync()?;
         }
         csv.sync()?;
+        // From here on every file is whole on disk: the journal lets the next run finish the
+        // renames if this process is killed between them.
+        let renames: Vec<(PathBuf, PathBuf)> = std::iter::once(&csv)
+            .chain(&others)
+            .map(|f| (f.temp_path().to_path_buf(), f.target().to_path_buf()))
+            .collect();
+        let csv_target = csv.target().to_path_buf();
+        journal::write(&csv_target, &renames)?;
+        let result = Self::rename_all(csv, others, &mut before_rename);
+        // Every rename is on disk before the journal goes; after a failure (rolled back, or
+        // nothing renamed) the journal has nothing left to do either.
+        scratch::sync_dir(&csv_target);
+        journal::remove(&csv_target);
+        result
+    }
+
+    /// Renames `csv`, then each of `others`, over its target; on a failure puts back what was
+    /// replaced so far.
+    fn rename_all(
+        csv: AtomicFile,
+        others: Vec<AtomicFile>,
+        before_rename: &mut impl FnMut(&Path) -> Result<(), OutputError>,
+    ) -> Result<(), OutputError> {
         // Each target's earlier file is kept until all renames succeeded; on a failure every
         // target renamed so far gets its earlier file back (or is removed if it had none).
-        let mut done: Vec<(PathBuf, Backup)> = Vec::with_capacity(2 + extras.len());
+        let mut done: Vec<(PathBuf, Backup)> = Vec::with_capacity(1 + others.len());
         let target = csv.target().to_path_buf();
         let backup = Backup::of(&target)?;
         csv.rename_into_place()?;
@@ -192,6 +213,11 @@ impl ResultPair {
         match result {
             Ok(()) => Ok(()),
             Err(e) => {
+                // Rolling back: the journal must not roll the commit forward any more (the
+                // temporary files not renamed are already gone with the loop's iterator).
+                if let Some((first, _)) = done.first() {
+                    journal::remove(first);
+                }
                 for (target, backup) in done.into_iter().rev() {
                     backup.restore(&target);
                 }
@@ -211,15 +237,24 @@ impl Backup {
         if std::fs::symlink_metadata(target).is_err() {
             return Ok(Backup { path: None });
         }
-        let mut p = target.as_os_str().to_owned();
-        p.push(format!(".{}.old", std::process::id()));
-        let path = PathBuf::from(p);
-        let _ = std::fs::remove_file(&path);
-        // A hard link costs nothing; a file system without them gets a copy.
-        if std::fs::hard_link(target, &path).is_err() {
-            std::fs::copy(target, &path).map_err(|e| io_error(target, e))?;
+        // A hard link costs nothing (and, like `O_EXCL`, never replaces an existing name); a
+        // file system without them gets a copy into a file created exclusively.
+        for _ in 0..8 {
+            let path = scratch::scratch_path(target, Kind::Backup);
+            match std::fs::hard_link(target, &path) {
+                Ok(()) => return Ok(Backup { path: Some(path) }),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+                Err(_) => break,
+            }
         }
-        Ok(Backup { path: Some(path) })
+        let (path, mut copy) = create_new(target, Kind::Backup)?;
+        let backup = Backup {
+            path: Some(path.clone()),
+        };
+        std::fs::File::open(target)
+            .and_then(|mut from| std::io::copy(&mut from, &mut copy))
+            .map_err(|e| io_error(target, e))?;
+        Ok(backup)
     }
 
     /// Puts the earlier file back (or removes the new one if there was none).
@@ -280,14 +315,29 @@ mod tests {
         assert_eq!(listing(&d), ["r.csv", "r.json"]);
         let mut pair = ResultPair::begin(&csv, None).unwrap_or_else(|e| panic!("{e}"));
         assert!(pair.csv().write_str("new csv\n").is_ok());
+        let mut journal = String::new();
         let failed = pair.commit_with(&"new", &[], |json| {
+            // Between the renames the journal lists them (the CSV's already done).
+            journal = std::fs::read_to_string(journal::journal_path(&d.join("r.csv")))
+                .unwrap_or_default();
             Err(io_error(json, std::io::Error::other("injected failure")))
         });
         assert!(failed.is_err());
+        let lines: Vec<&str> = journal.lines().collect();
+        assert_eq!(lines.len(), 3, "{journal}");
+        assert_eq!(lines[0], "linkdyn commit journal");
+        for (line, target) in lines[1..].iter().zip(["r.csv", "r.json"]) {
+            let (temp, to) = line.split_once('\t').unwrap_or_default();
+            assert_eq!(to, target);
+            assert_eq!(
+                scratch::parse(temp),
+                Some((target, std::process::id(), Kind::Temp))
+            );
+        }
         assert_eq!(
             listing(&d),
             ["r.csv", "r.json"],
-            "no temporary or lock file left"
+            "no temporary, journal or lock file left"
         );
         let read = |p: &str| std::fs::read_to_string(d.join(p)).unwrap_or_default();
         assert_eq!(read("r.csv"), "old csv\n", "earlier CSV restored");

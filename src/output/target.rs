@@ -89,8 +89,9 @@ fn kind(ft: FileType) -> &'static str {
     "not a regular file"
 }
 
-/// Whether two existing paths name the same file.
-fn same_file(a: &Path, b: &Path) -> bool {
+/// Whether two existing paths name the same file (the same device and inode on Unix, so a
+/// second spelling, a hard link or a symbolic link counts); false if either does not exist.
+pub fn same_file(a: &Path, b: &Path) -> bool {
     #[cfg(unix)]
     {
         use std::os::unix::fs::MetadataExt;
