@@ -22,8 +22,13 @@
 //!
 //! This assumes that a step holds at most one maximum of each quantity: the error control
 //! resolves the contact's motion (a contact pulse spans several steps), and the rates at both
-//! ends catch any single interior maximum wherever it lies. `tests/peak_search_scan.rs` checks
-//! the peaks against a dense scan of every step on the reference cases.
+//! ends catch any single interior maximum wherever it lies. The unit test
+//! `impact_peaks_equal_a_dense_scan_of_every_step` (`src/simulation/tests.rs`) checks the peaks
+//! against a dense scan of every step on the reference cases.
+//!
+//! Cost (instruction counts, farahan2016, 2 turns, `docs/benchmarks.md`): 1.5–6.3 % of a run
+//! with DOP853 or Radau5 on either formulation, against 49 % for the search it replaced (9
+//! interpolated states per step in contact, each through the whole equations of motion).
 //!
 //! A model without clearance joints does no work at all (the hook returns at once).
 
