@@ -707,7 +707,13 @@ impl Builder<'_, '_> {
             let initial = BodyState {
                 x: coordinate(&i.x, "initial x (m)")?,
                 y: coordinate(&i.y, "initial y (m)")?,
-                phi: self.within(&i.phi, "initial phi (rad)", -MAX_ANGLE, MAX_ANGLE, ANGLE_WHY)?,
+                phi: self.within(
+                    &i.phi,
+                    "initial phi (rad)",
+                    -MAX_ANGLE,
+                    MAX_ANGLE,
+                    ANGLE_WHY,
+                )?,
                 vx: opt(&i.vx, "initial vx (m/s)", MAX_VELOCITY, VELOCITY_WHY)?,
                 vy: opt(&i.vy, "initial vy (m/s)", MAX_VELOCITY, VELOCITY_WHY)?,
                 omega: opt(&i.omega, "initial omega (rad/s)", MAX_SPEED, SPEED_WHY)?,
@@ -1528,7 +1534,11 @@ impl Builder<'_, '_> {
             (Some(rpm), None) => {
                 let n = self.finite(rpm, &format!("{field}_rpm"))?;
                 let omega = n * std::f64::consts::PI / 30.0;
-                bounded(rpm, format!("{field}_rpm = {n:e}, {omega:.3e} rad/s"), omega)
+                bounded(
+                    rpm,
+                    format!("{field}_rpm = {n:e}, {omega:.3e} rad/s"),
+                    omega,
+                )
             }
             (None, Some(w)) => {
                 let omega = self.finite(w, &format!("{field} (rad/s)"))?;

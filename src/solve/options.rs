@@ -320,7 +320,9 @@ impl SolverOptions {
     #[must_use]
     pub fn controlled_tolerances(&self) -> (f64, f64) {
         match self.method {
-            Method::Radau5 if self.radau5.hairer_tolerances => hairer_transform(self.rtol, self.atol),
+            Method::Radau5 if self.radau5.hairer_tolerances => {
+                hairer_transform(self.rtol, self.atol)
+            }
             _ => (self.rtol, self.atol),
         }
     }
@@ -565,7 +567,7 @@ mod tests {
         }
     }
 
-    /// The messages of issue 14 (`--rtol 1`, `--rtol -1`, `--atol 0`, `--atol 1e308`), exactly.
+    /// The messages for hostile settings (`--rtol 1`, `--rtol -1`, `--atol 0`, `--atol 1e308`), exactly.
     #[test]
     fn out_of_range_tolerances_have_exact_messages() {
         let rtol = |v| {
