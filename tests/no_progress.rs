@@ -515,7 +515,7 @@ fn a_stall_at_a_lock_names_the_constraints_that_lose_independence() {
     assert_eq!(
         head,
         format!(
-            "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by 1.102e-7 s (mean step 1.102e-10 s); reaching t_end at this pace needs about 1.3e9 more attempts. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model. At t = {t:.9} s: the constraint rows \"O2.x\" (0.49), \"A.x\" (0.49), \"B.x\" (0.49), \"O4.x\" (0.49), \"O4.y\" (0.10), \"B.y\" (0.10) and 3 more are nearly dependent: the linkage is at or near a singular position (σ_min/σ_max = "
+            "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by 1.102e-7 s (mean step 1.102e-10 s); reaching t_end at this pace needs about 1.3e9 more attempts, max_steps allows 1.0e7. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model. At t = {t:.9} s: the constraint rows \"O2.x\" (0.49), \"A.x\" (0.49), \"B.x\" (0.49), \"O4.x\" (0.49), \"O4.y\" (0.10), \"B.y\" (0.10) and 3 more are nearly dependent: the linkage is at or near a singular position (σ_min/σ_max = "
         )
     );
     assert!(ratio < 1e-5, "σ_min/σ_max = {ratio:e} at the lock");

@@ -35,7 +35,7 @@ fn absurd_values_are_refused_with_the_field_the_range_and_why() {
         (
             "models/farahan2016.toml",
             &["bodies.crank.mass=1e-12"],
-            "error: models/farahan2016.toml:22:11: bodies.crank.inertia: expected a moment of inertia (kg·m²) of body \"crank\" of at most m·(10·D)² = 9.353e-11, its mass m = 1.000e-12 kg at 10 times the linkage's extent D = 9.671e-1 m (real linkages: a flywheel ten times the size of its mechanism), found 4.600e-3 (a radius of gyration √(I/m) of 6.782e4 m) (after --set overrides)",
+            "error: models/farahan2016.toml:22:11: bodies.crank.inertia: expected a moment of inertia (kg·m²) of body \"crank\" of at most m·(1000·D)² = 9.353e-7, its mass m = 1.000e-12 kg at 1000 times the linkage's extent D = 9.671e-1 m (real linkages: bodies reach beyond their joints, but not by a thousand times the linkage), found 4.600e-3 (a radius of gyration √(I/m) of 6.782e4 m) (after --set overrides)",
         ),
         (
             "models/farahan2016.toml",

@@ -145,6 +145,9 @@ pub struct Dae {
     assembly: Assembly,
     /// Length scale L of the linkage (m): see [`Dae::length_scale`].
     length_scale: f64,
+    /// Mass-to-rotational-inertia ratio κ = max over bodies of m L²/I, at least 1: see
+    /// [`roundoff_floor`].
+    conditioning: f64,
     /// Largest |Φ| over the accepted step ends so far (m or rad).
     max_step_violation: f64,
     /// Times (s) at which accepted steps came within [`SINGULAR_PASSAGE_RATIO`] of a singular
@@ -195,6 +198,12 @@ impl Dae {
             .collect();
         let nb = model.bodies.len();
         let ma = active.len();
+        let scale = length_scale(model, &assembly.q);
+        let conditioning = model
+            .bodies
+            .iter()
+            .map(|b| b.mass * scale * scale / b.inertia)
+            .fold(1.0_f64, f64::max);
         let schur = schur_at(&constraints, &active, &assembly, SchurSolver::Auto);
         let shift = shift_at(&constraints, &active, &assembly, &inv_mass);
         let mut dae = Dae {
@@ -208,7 +217,8 @@ impl Dae {
             baumgarte: options.baumgarte.unwrap_or(model.settings.baumgarte),
             energy: options.energy,
             initial_energy: 0.0,
-            length_scale: length_scale(model, &assembly.q),
+            length_scale: scale,
+            conditioning,
             max_step_violation: 0.0,
             singular_passages: Vec::new(),
             projections: 0,
@@ -340,7 +350,7 @@ impl Dae {
     ) -> Result<f64, FormulationError> {
         let work = &mut *self.work.borrow_mut();
         self.constraints_at(t, y, work);
-        let (limit_m, limit_rad) = violation_limit(self.length_scale, rtol, atol);
+        let (limit_m, limit_rad) = self.violation_limits(rtol, atol);
         let mut max = 0.0_f64;
         let mut worst: Option<(usize, f64)> = None;
         for (k, phi) in work.constraints.phi.iter().enumerate() {
@@ -373,15 +383,25 @@ impl Dae {
             unit: if angle { "rad" } else { "m" },
             bound: if angle {
                 format!(
-                    "min({VIOLATION_CAP}, {VIOLATION_FACTOR}·(rtol + atol)) with the controlled tolerances rtol = {rtol:e}, atol = {atol:e}"
+                    "min({VIOLATION_CAP}, {VIOLATION_FACTOR}·(rtol + atol)) with the controlled tolerances rtol = {rtol:e}, atol = {atol:e}, at least the round-off floor {ROUNDOFF_FACTOR} ε κ with κ = {:.3e}",
+                    self.conditioning
                 )
             } else {
                 format!(
-                    "min({VIOLATION_CAP} L, {VIOLATION_FACTOR}·(rtol·L + atol)) with the length scale L = {:.3e} m and the controlled tolerances rtol = {rtol:e}, atol = {atol:e}",
-                    self.length_scale
+                    "min({VIOLATION_CAP} L, {VIOLATION_FACTOR}·(rtol·L + atol)) with the length scale L = {:.3e} m and the controlled tolerances rtol = {rtol:e}, atol = {atol:e}, at least the round-off floor {ROUNDOFF_FACTOR} ε κ L with κ = {:.3e}",
+                    self.length_scale, self.conditioning
                 )
             },
         })
+    }
+
+    /// The bound of [`Dae::check_violation`] at the tolerances `rtol`, `atol` the method
+    /// controls, (metres, radians): the larger of [`violation_limit`] and
+    /// [`roundoff_floor`] for this linkage.
+    pub fn violation_limits(&self, rtol: f64, atol: f64) -> (f64, f64) {
+        let (m, rad) = violation_limit(self.length_scale, rtol, atol);
+        let (floor_m, floor_rad) = roundoff_floor(self.length_scale, self.conditioning);
+        (m.max(floor_m), rad.max(floor_rad))
     }
 
     /// The constraint rows the DAE solves for (those found redundant at assembly left out).
@@ -844,8 +864,10 @@ pub const VIOLATION_CAP: f64 = 0.1;
 /// every method, rtol from 1e-3 to 1e-12 with atol = rtol and rtol/100 (2 turns;
 /// `cargo run --release --example violation_survey`, docs/numerics.md, "The
 /// constraint-violation bound"): the largest max |Φ| is 2.0 (rtol·L + atol), a factor of 49
-/// below the bound, and no floor is needed down to rtol 1e-12. The cap 0.1 L applies at
-/// tolerances so loose that the bound would pass it.
+/// below the bound, and no tolerance-independent floor is needed down to rtol 1e-12 except the
+/// round-off of ill-conditioned linkages ([`roundoff_floor`], applied by
+/// [`Dae::violation_limits`]). The cap 0.1 L applies at tolerances so loose that the bound
+/// would pass it.
 ///
 /// [`SolverOptions::controlled_tolerances`]: crate::solve::SolverOptions::controlled_tolerances
 pub fn violation_limit(length_scale: f64, rtol: f64, atol: f64) -> (f64, f64) {
@@ -853,6 +875,24 @@ pub fn violation_limit(length_scale: f64, rtol: f64, atol: f64) -> (f64, f64) {
     let metres = (VIOLATION_FACTOR * (rtol * l + atol)).min(VIOLATION_CAP * l);
     let radians = (VIOLATION_FACTOR * (rtol + atol)).min(VIOLATION_CAP);
     (metres, radians)
+}
+
+/// Multiple of ε κ L below which no tolerance can hold the violation (see [`roundoff_floor`]).
+pub const ROUNDOFF_FACTOR: f64 = 100.0;
+
+/// The round-off floor of the violation bound, (metres, radians) = (100 ε κ L, 100 ε κ), with
+/// κ = max over bodies of m L²/I (at least 1) and L the length scale. The constraint solve's
+/// Schur complement Φ_q M⁻¹ Φ_qᵀ has a condition number of the order of κ — a nearly point-like
+/// body rotates with almost no inertia — and loses that many ulps in the multipliers, which
+/// Baumgarte's term turns into a drift of the order of ε κ L whatever the tolerance. Measured on
+/// `models/pendulum.toml` with I = 1e-9 kg·m² (κ = 2.5e8, ε κ L = 2.8e-8 m), released at 170 °
+/// (`tests/pendulum_pivot_reaction.rs`): max |Φ| = 1.6e-8 m at rtol 1e-8 and 5.6e-9 m at rtol
+/// 1e-10, beyond 100 (rtol L + atol) = 5.1e-9 m there; the floor 2.8e-6 m leaves a factor 175.
+/// For a uniform rod (κ = 12 at L = its length) the floor is 2.6e-13 L, below every tolerance
+/// bound.
+pub fn roundoff_floor(length_scale: f64, conditioning: f64) -> (f64, f64) {
+    let radians = ROUNDOFF_FACTOR * f64::EPSILON * conditioning.max(1.0);
+    (radians * length_scale, radians)
 }
 
 /// Whether a constraint row is an angle (rad) rather than a position (m).

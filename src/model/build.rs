@@ -746,7 +746,7 @@ impl Builder<'_, '_> {
         Err(self.err(
             raw.inertia.span(),
             format!(
-                "expected a moment of inertia (kg·m²) of body \"{}\" of at most m·({MAX_GYRATION_PER_EXTENT}·D)² = {limit:.3e}, its mass m = {:.3e} kg at {MAX_GYRATION_PER_EXTENT} times the linkage's extent D = {extent:.3e} m (real linkages: a flywheel ten times the size of its mechanism), found {:.3e} (a radius of gyration √(I/m) of {:.3e} m)",
+                "expected a moment of inertia (kg·m²) of body \"{}\" of at most m·({MAX_GYRATION_PER_EXTENT}·D)² = {limit:.3e}, its mass m = {:.3e} kg at {MAX_GYRATION_PER_EXTENT} times the linkage's extent D = {extent:.3e} m (real linkages: bodies reach beyond their joints, but not by a thousand times the linkage), found {:.3e} (a radius of gyration √(I/m) of {:.3e} m)",
                 body.name,
                 body.mass,
                 body.inertia,

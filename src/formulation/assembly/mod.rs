@@ -180,10 +180,12 @@ pub(crate) fn bounded_svd(
         return None;
     }
     let values = m.nrows().min(m.ncols()).max(1);
+    // nalgebra's `svd` convergence threshold (5 ε), so that a converging SVD is the same to the
+    // last bit as before the limit.
     m.try_svd(
         compute_u,
         compute_v,
-        f64::EPSILON,
+        5.0 * f64::EPSILON,
         SVD_ITERATIONS_PER_VALUE * values,
     )
 }
