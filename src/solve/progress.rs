@@ -30,8 +30,8 @@
 //! cannot tell a crawl that ends from one that does not: the as-printed friction law of
 //! `linkdyn reproduce --quick` (a reproduction aid with sticking phases of tiny steps) has
 //! windows of 10 000 attempts that project 1–30 times the budget in runs that then finish
-//! within it. On the reference runs below the slowest such window projects at most 0.11 of the
-//! budget (`tests/no_progress.rs`).
+//! within it. On the reference runs below the slowest such window projects at most 2.8e-3 of
+//! the budget (`tests/no_progress.rs`).
 //!
 //! **Stiff or collapsed.** When the rule fires, the message says the problem is stiff if the
 //! method's stiffness test has fired ([`Integrator::stiffness_detected`]: for the explicit
