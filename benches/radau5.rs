@@ -5,7 +5,7 @@
 //! with Hairer's defaults at rtol 1e-9 (DAE 9.8e-9), 5e-10 (reduced 1.2e-8, DAE 7.4e-9) and
 //! 1e-10, and with the tuned settings (theta_jac 0.1, newton_tol 0.1) at 1e-10.
 //!
-//! Issue 11 §4's target point: since Radau5 cuts its steps at event crossings
+//! The DAE's Radau5 target point (docs/numerics.md, "Radau5 at events"): since Radau5 cuts its steps at event crossings
 //! (`Radau5Settings::cut_at_events`), the DAE reaches 7.9e-9 rad at rtol 3e-9 with 34 924 RHS
 //! (`tests/radau5_target_250rpm.rs`); `radau5_rtol3e-9` times it, and `radau5_nocut_rtol3e-9`
 //! the same run without the cut (1.7e-8 rad, 34 580 RHS), against DOP853's best DAE point

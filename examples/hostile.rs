@@ -1,4 +1,4 @@
-//! The seeded hostile-input run of issue 14: `cargo run --release --example hostile -- --count
+//! The seeded hostile-input run (results that never lie): `cargo run --release --example hostile -- --count
 //! 2000 --seed S` builds `count` mutants of the shipped models and settings (seeds S, S+1, …),
 //! runs each with the release `linkdyn` binary (build it first: `cargo build --release`) and
 //! prints every broken promise (panic, hang, exit 0 with bad results, files left after a

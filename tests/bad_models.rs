@@ -155,7 +155,7 @@ const CASES: &[(&str, &str)] = &[
     ),
     (
         "mass_below_floor",
-        "tests/bad_models/mass_below_floor.toml:10:8: bodies.link.mass: expected a mass (kg) of at least 1e-15 (a 1 µm steel cube), found 1e-300",
+        "tests/bad_models/mass_below_floor.toml:10:8: bodies.link.mass: expected a mass (kg) in [1e-15, 1e6] (real linkages: from a 1 µm steel cube to ten times the largest excavator boom), found 1e-300",
     ),
     (
         "missing_model_name",

@@ -50,7 +50,40 @@ fn a_drifting_run_stops_with_the_time_the_row_and_the_value() {
     assert_eq!(run.status.code(), Some(3), "{stderr}");
     assert_eq!(
         stderr.trim_end(),
-        "error: the equations of motion could not be evaluated at t = 2.003971632 s: constraint \"O4.y\" is violated by |Φ| = 2.001e-2 m at t = 2.003971632 s, beyond the bound 1.962e-2 m (min(0.1 L, max(1e-3 L, 100·(rtol·L + atol))) with the length scale L = 9.624e-1 m, rtol = 1e-4, atol = 1e-4): the motion no longer satisfies the joints; tighten rtol/atol, raise the Baumgarte factors, or check that the linkage can move as driven"
+        "error: the equations of motion could not be evaluated at t = 2.003971632 s: constraint \"O4.y\" is violated by |Φ| = 2.001e-2 m at t = 2.003971632 s, beyond the bound 1.962e-2 m (min(0.1 L, 100·(rtol·L + atol)) with the length scale L = 9.624e-1 m and the controlled tolerances rtol = 1e-4, atol = 1e-4, at least the round-off floor 100 ε κ L with κ = 9.946e1): the motion no longer satisfies the joints; tighten rtol/atol, raise the Baumgarte factors, or check that the linkage can move as driven"
+    );
+    assert!(!out.exists(), "no partial result file");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_sample_between_step_ends_is_held_to_the_bound_too() {
+    // At rtol 0.1, atol 1 every step end of the double pendulum passed the old check while the
+    // dense output between them put samples 2.02 m off the joints (exit 0). The bound is the cap
+    // 0.1 L = 0.1231 m here; the first sample beyond it, on the 1e-4 s output grid, stops the run.
+    let dir = std::env::temp_dir().join(format!("linkdyn-sample-drift-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&dir);
+    let out = dir.join("drift.csv");
+    let run = Command::new(env!("CARGO_BIN_EXE_linkdyn"))
+        .args([
+            "run",
+            "models/double_pendulum.toml",
+            "--t-end",
+            "2",
+            "--rtol",
+            "0.1",
+            "--atol",
+            "1",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(3), "{stderr}");
+    assert!(
+        stderr.starts_with("error: the equations of motion could not be evaluated at t = 0.469000000 s: constraint \"A.x\" is violated by |Φ| = 1.233e-1 m at t = 0.469000000 s, beyond the bound 1.231e-1 m"),
+        "{stderr}"
     );
     assert!(!out.exists(), "no partial result file");
     let _ = std::fs::remove_dir_all(&dir);
@@ -93,9 +126,14 @@ fn a_state_off_the_joints_is_refused_at_the_step_end() {
 }
 
 #[test]
-fn the_bound_follows_the_tolerance_between_its_floor_and_its_cap() {
-    // L = 1 m: floor 1e-3 m (tight tolerances), 100·(rtol + atol) in between, cap 0.1 m.
-    assert_eq!(violation_limit(1.0, 1e-12, 1e-12), (1e-3, 1e-3));
+fn the_bound_follows_the_tolerance_up_to_its_cap() {
+    // L = 1 m: 100·(rtol + atol) down to the tightest tolerance (no floor: the survey of
+    // docs/numerics.md, "The constraint-violation bound", found none needed), cap 0.1 m.
+    let (m, rad) = violation_limit(1.0, 1e-12, 1e-12);
+    assert!(
+        (m - 2e-10).abs() < 1e-24 && (rad - 2e-10).abs() < 1e-24,
+        "{m} {rad}"
+    );
     let (m, rad) = violation_limit(1.0, 1e-4, 0.0);
     assert!(
         (m - 1e-2).abs() < 1e-15 && (rad - 1e-2).abs() < 1e-15,

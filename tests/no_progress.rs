@@ -51,8 +51,81 @@ fn a_collapsed_step_size_stops_the_run_within_the_window() {
         // more than 100 × the 1e7 left of max_steps.
         assert_eq!(
             err.to_string(),
-            "no progress at t = 0.000000010 s: the last 1000 step attempts advanced t by 1.000e-8 s (mean step 1.000e-11 s); reaching t_end at this pace needs about 1.0e11 more attempts. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model",
+            "no progress at t = 0.000000010 s: the last 1000 step attempts advanced t by 1.000e-8 s (mean step 1.000e-11 s); reaching t_end at this pace needs about 1.0e11 more attempts, max_steps allows 1.0e7. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model",
             "{method}"
+        );
+    }
+}
+
+/// y' = 1 with steps of at most 1e-6 s: a steady pace, 1e6 attempts per simulated second.
+struct Steady;
+
+impl Formulation for Steady {
+    fn n_states(&self) -> usize {
+        1
+    }
+    fn initial_state(&self) -> Vec<f64> {
+        vec![0.0]
+    }
+    fn rhs(&self, _t: f64, _y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
+        dy[0] = 1.0;
+        Ok(())
+    }
+    fn max_step(&self, _t: f64, _y: &[f64]) -> f64 {
+        1e-6
+    }
+}
+
+/// The sustained-pace stop of `Steady` over `t_end` with `max_steps`: (t reached, projected
+/// attempts, budget left), after checking the message's cause.
+fn steady_stop(method: Method, t_end: f64, max_steps: u64) -> (f64, f64, f64) {
+    let opts = SolverOptions::default().method(method).max_steps(max_steps);
+    let err = failure(&mut Steady, t_end, &opts);
+    let SolveError::NoProgress {
+        t,
+        attempts,
+        projected,
+        budget,
+        ..
+    } = err
+    else {
+        panic!("{method}: expected NoProgress, got {err}");
+    };
+    assert_eq!(attempts, 10_000, "{method}");
+    let message = err.to_string();
+    assert!(
+        message.ends_with("The step size has stayed this small for 10000 attempts: something keeps it there (a long contact phase, a stiff element, a step guard); raise --max-steps if the run must go on"),
+        "{method}: {message}"
+    );
+    (t, projected, budget)
+}
+
+#[test]
+fn a_steady_pace_beyond_the_budget_stops_at_a_tenth_of_it() {
+    // 5e8 attempts for 500 s: fifty times the 1e7 of max_steps, under the hundred times of the
+    // collapse rule, which let it run until the budget left fell under 5e6 (5e6 attempts, all
+    // to end in an error). Now it stops once a tenth of the budget is spent: at attempt 1e6,
+    // t ≈ 1 s.
+    for method in Method::ALL {
+        let (t, projected, budget) = steady_stop(method, 500.0, 10_000_000);
+        // The first steps may be shorter than 1e-6 s (the initial step heuristic, then growth
+        // by at most 8× a step for Radau5): t within ten steps of 1 s.
+        assert!((t - 1.0).abs() <= 1e-5, "{method}: t = {t}");
+        assert!(
+            projected > budget && projected < 100.0 * budget,
+            "{method}: projected {projected:e}, budget {budget:e}"
+        );
+    }
+    // 5e4 attempts for 50 ms against max_steps = 20 000: 2.5 times the budget. A tenth of it
+    // (2000 attempts) is spent before the window of 10 000 is full, so the run stops as soon
+    // as the window is full, at attempt 10 001, t ≈ 1e-2 s; before, it ran into TooManySteps at
+    // attempt 20 000.
+    for method in Method::ALL {
+        let (t, projected, budget) = steady_stop(method, 0.05, 20_000);
+        assert!((t - 1e-2).abs() <= 1e-5, "{method}: t = {t}");
+        assert!(
+            projected > budget && projected < 100.0 * budget,
+            "{method}: projected {projected:e}, budget {budget:e}"
         );
     }
 }
@@ -85,6 +158,7 @@ fn a_stiff_problem_is_called_stiff_and_an_implicit_method_is_suggested() {
             advance,
             attempts,
             projected,
+            budget,
             stiff,
             ref implicit,
             ref diagnosis,
@@ -112,7 +186,7 @@ fn a_stiff_problem_is_called_stiff_and_an_implicit_method_is_suggested() {
         assert_eq!(
             err.to_string(),
             format!(
-                "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by {advance:.3e} s (mean step {h:.3e} s); reaching t_end at this pace needs about {projected:.1e} more attempts. The step size is limited by stability, not accuracy: the problem is stiff here (e.g. a long contact phase). Use {advice}; loosening rtol/atol will not help"
+                "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by {advance:.3e} s (mean step {h:.3e} s); reaching t_end at this pace needs about {projected:.1e} more attempts, max_steps allows {budget:.1e}. The step size is limited by stability, not accuracy: the problem is stiff here (e.g. a long contact phase). Use {advice}; loosening rtol/atol will not help"
             ),
             "{method}"
         );
@@ -166,9 +240,10 @@ fn max_wall_bounds_the_run_and_says_how_far_it_got() {
 /// The factor of the rule in `src/solve/progress.rs`.
 const STALL_FACTOR: f64 = 100.0;
 
-/// The rule's quantity for a run, reconstructed from the stepper: the largest
-/// projected/(100·budget) over all windows of 1000 attempts (1 would stop the run).
-fn worst_stall_ratio<F: Formulation>(f: &mut F, t_end: f64, opts: &SolverOptions) -> f64 {
+/// The rules' quantities for a run, reconstructed from the stepper: the largest
+/// projected/(100·budget) over all windows of 1000 attempts, and the largest projected/budget
+/// over all windows of 10 000 attempts (1 would stop the run).
+fn worst_stall_ratio<F: Formulation>(f: &mut F, t_end: f64, opts: &SolverOptions) -> (f64, f64) {
     let y0 = f.initial_state();
     let mut s = Stepper::new(f, 0.0, &y0, t_end, opts).unwrap_or_else(|e| panic!("{e}"));
     // Start time of every attempt: all attempts of one `step` call start at the same t.
@@ -182,20 +257,23 @@ fn worst_stall_ratio<F: Formulation>(f: &mut F, t_end: f64, opts: &SolverOptions
             break;
         }
     }
-    let w = 1000;
     let max_steps = opts.max_steps as f64;
-    (w..starts.len())
-        .map(|a| {
-            let advance = starts[a] - starts[a - w];
-            let projected = w as f64 * (t_end - starts[a]) / advance;
-            projected / (STALL_FACTOR * (max_steps - a as f64))
-        })
-        .fold(0.0, f64::max)
+    let worst = |w: usize, factor: f64| {
+        (w..starts.len())
+            .map(|a| {
+                let advance = starts[a] - starts[a - w];
+                let projected = w as f64 * (t_end - starts[a]) / advance;
+                projected / (factor * (max_steps - a as f64))
+            })
+            .fold(0.0, f64::max)
+    };
+    (worst(1000, STALL_FACTOR), worst(10_000, 1.0))
 }
 
 #[test]
 fn healthy_contact_runs_stay_far_from_the_threshold() {
     let mut worst: f64 = 0.0;
+    let mut worst_sustained: f64 = 0.0;
     for rpm in [250.0, 3500.0] {
         let model = linkdyn::model::load(
             "models/farahan2016.toml".as_ref(),
@@ -212,23 +290,35 @@ fn healthy_contact_runs_stay_far_from_the_threshold() {
                 let mut dae =
                     Dae::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"));
                 let mut reduced = ReducedLagrangian::new(&model).unwrap_or_else(|e| panic!("{e}"));
-                for (name, ratio) in [
+                for (name, (ratio, sustained)) in [
                     ("dae", worst_stall_ratio(&mut dae, t_end, &opts)),
                     ("reduced", worst_stall_ratio(&mut reduced, t_end, &opts)),
                 ] {
-                    println!("{rpm} rpm, {name}, {method}, rtol {rtol:.0e}: {ratio:.3e}");
+                    println!(
+                        "{rpm} rpm, {name}, {method}, rtol {rtol:.0e}: {ratio:.3e}, sustained {sustained:.3e}"
+                    );
                     // 1 stops the run; 0.01 leaves a factor 100 for harder cases of the model
                     // (measured worst: 1.1e-3).
                     assert!(
                         ratio < 0.01,
                         "{rpm} rpm, {name}, {method}, rtol {rtol:.0e}: ratio {ratio:.3e}"
                     );
+                    // The sustained-pace rule: windows of 10 000 attempts against the budget
+                    // itself (factor 1, not 100); 0.1 leaves a factor 10 for harder cases
+                    // (measured worst: 2.8e-3, reduced DOPRI5 rtol 1e-9 at 250 rpm).
+                    assert!(
+                        sustained < 0.1,
+                        "{rpm} rpm, {name}, {method}, rtol {rtol:.0e}: sustained {sustained:.3e}"
+                    );
                     worst = worst.max(ratio);
+                    worst_sustained = worst_sustained.max(sustained);
                 }
             }
         }
     }
-    println!("worst projected/(100·budget) over the reference runs: {worst:.3e}");
+    println!(
+        "worst projected/(100·budget) over the reference runs: {worst:.3e}, sustained projected/budget: {worst_sustained:.3e}"
+    );
 }
 
 /// The reference four-bar with a crank of 0.4 m: at θ2 = π all four links lie on the ground
@@ -426,7 +516,7 @@ fn a_stall_at_a_lock_names_the_constraints_that_lose_independence() {
     assert_eq!(
         head,
         format!(
-            "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by 1.102e-7 s (mean step 1.102e-10 s); reaching t_end at this pace needs about 1.3e9 more attempts. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model. At t = {t:.9} s: the constraint rows \"O2.x\" (0.49), \"A.x\" (0.49), \"B.x\" (0.49), \"O4.x\" (0.49), \"O4.y\" (0.10), \"B.y\" (0.10) and 3 more are nearly dependent: the linkage is at or near a singular position (σ_min/σ_max = "
+            "no progress at t = {t:.9} s: the last 1000 step attempts advanced t by 1.102e-7 s (mean step 1.102e-10 s); reaching t_end at this pace needs about 1.3e9 more attempts, max_steps allows 1.0e7. The step size collapsed: the solution is (nearly) discontinuous here (a singular position of the linkage such as a toggle, a discontinuous force) or events pile up (chattering, a Zeno sequence of impacts); check the model. At t = {t:.9} s: the constraint rows \"O2.x\" (0.49), \"A.x\" (0.49), \"B.x\" (0.49), \"O4.x\" (0.49), \"O4.y\" (0.10), \"B.y\" (0.10) and 3 more are nearly dependent: the linkage is at or near a singular position (σ_min/σ_max = "
         )
     );
     assert!(ratio < 1e-5, "σ_min/σ_max = {ratio:e} at the lock");

@@ -1,4 +1,4 @@
-//! Stress table (issue 14 §1): stiff and extreme cases of the reference four-bar
+//! Stress table (docs/numerics.md, "Numerics under stress"): stiff and extreme cases of the reference four-bar
 //! (`farahan2016.toml`) and the two-joint slider-crank (`slider_crank_clearance.toml`), each run
 //! on every formulation the model supports × every method of [`Method::ALL`] × a list of
 //! tolerances, with a wall-clock and a step budget per run and a [`Verdict`] per cell.

@@ -88,8 +88,18 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         .map(|c| c.impact_count)
         .sum();
     let stats = &summary.solver_stats;
+    // Beside the clearance, a drift reads as what it is: a share of the gap under study.
+    let relative = model
+        .smallest_clearance()
+        .map(|c| {
+            format!(
+                " = {:.2e} of the smallest clearance c = {c:.2e} m",
+                summary.max_constraint_violation / c
+            )
+        })
+        .unwrap_or_default();
     eprintln!(
-        "{} ({}): {} samples to {} in {:.3} s ({} steps, {} rejected, {} RHS evaluations, {} impacts, max |Phi| = {:.2e})",
+        "{} ({}): {} samples to {} in {:.3} s ({} steps, {} rejected, {} RHS evaluations, {} impacts, max |Phi| = {:.2e}{relative})",
         model.name,
         args.formulation,
         summary.samples,

@@ -145,6 +145,9 @@ pub struct Dae {
     assembly: Assembly,
     /// Length scale L of the linkage (m): see [`Dae::length_scale`].
     length_scale: f64,
+    /// Mass-to-rotational-inertia ratio κ = max over bodies of m L²/I, at least 1: see
+    /// [`roundoff_floor`].
+    conditioning: f64,
     /// Largest |Φ| over the accepted step ends so far (m or rad).
     max_step_violation: f64,
     /// Times (s) at which accepted steps came within [`SINGULAR_PASSAGE_RATIO`] of a singular
@@ -195,6 +198,12 @@ impl Dae {
             .collect();
         let nb = model.bodies.len();
         let ma = active.len();
+        let scale = length_scale(model, &assembly.q);
+        let conditioning = model
+            .bodies
+            .iter()
+            .map(|b| b.mass * scale * scale / b.inertia)
+            .fold(1.0_f64, f64::max);
         let schur = schur_at(&constraints, &active, &assembly, SchurSolver::Auto);
         let shift = shift_at(&constraints, &active, &assembly, &inv_mass);
         let mut dae = Dae {
@@ -208,7 +217,8 @@ impl Dae {
             baumgarte: options.baumgarte.unwrap_or(model.settings.baumgarte),
             energy: options.energy,
             initial_energy: 0.0,
-            length_scale: length_scale(model, &assembly.q),
+            length_scale: scale,
+            conditioning,
             max_step_violation: 0.0,
             singular_passages: Vec::new(),
             projections: 0,
@@ -321,6 +331,77 @@ impl Dae {
     /// ([`violation_limit`]).
     pub fn length_scale(&self) -> f64 {
         self.length_scale
+    }
+
+    /// Checks |Φ| of every row at (t, y) against [`violation_limit`] with the tolerances
+    /// `rtol`, `atol` the method controls (positions in m, angles in rad) and returns the
+    /// largest |Φ| (mixed units, as [`Outputs::outputs_into`] reports it). Used at every
+    /// accepted step end ([`Formulation::accept_step`]) and at every output sample
+    /// ([`Outputs::check_constraints`]): a state between step ends, interpolated by the dense
+    /// output, can be further off the joints than both ends (`linkdyn run
+    /// models/double_pendulum.toml --t-end 2 --rtol 0.1 --atol 1` reported samples 2.02 m off
+    /// while every step end passed). Costs one evaluation of the constraint rows.
+    pub fn check_violation(
+        &self,
+        t: f64,
+        y: &[f64],
+        rtol: f64,
+        atol: f64,
+    ) -> Result<f64, FormulationError> {
+        let work = &mut *self.work.borrow_mut();
+        self.constraints_at(t, y, work);
+        let (limit_m, limit_rad) = self.violation_limits(rtol, atol);
+        let mut max = 0.0_f64;
+        let mut worst: Option<(usize, f64)> = None;
+        for (k, phi) in work.constraints.phi.iter().enumerate() {
+            let value = phi.abs();
+            max = max.max(value);
+            let angle = self
+                .constraints
+                .sources()
+                .get(k)
+                .is_some_and(|&source| is_angle_row(source));
+            let limit = if angle { limit_rad } else { limit_m };
+            // A NaN violation is a violation too.
+            if (value.is_nan() || value > limit) && worst.is_none_or(|(_, w)| value > w) {
+                worst = Some((k, value));
+            }
+        }
+        let Some((k, value)) = worst else {
+            return Ok(max);
+        };
+        let angle = self
+            .constraints
+            .sources()
+            .get(k)
+            .is_some_and(|&source| is_angle_row(source));
+        Err(FormulationError::ConstraintViolation {
+            t,
+            constraint: self.constraints.row_name(&self.model, k),
+            value,
+            limit: if angle { limit_rad } else { limit_m },
+            unit: if angle { "rad" } else { "m" },
+            bound: if angle {
+                format!(
+                    "min({VIOLATION_CAP}, {VIOLATION_FACTOR}·(rtol + atol)) with the controlled tolerances rtol = {rtol:e}, atol = {atol:e}, at least the round-off floor {ROUNDOFF_FACTOR} ε κ with κ = {:.3e}",
+                    self.conditioning
+                )
+            } else {
+                format!(
+                    "min({VIOLATION_CAP} L, {VIOLATION_FACTOR}·(rtol·L + atol)) with the length scale L = {:.3e} m and the controlled tolerances rtol = {rtol:e}, atol = {atol:e}, at least the round-off floor {ROUNDOFF_FACTOR} ε κ L with κ = {:.3e}",
+                    self.length_scale, self.conditioning
+                )
+            },
+        })
+    }
+
+    /// The bound of [`Dae::check_violation`] at the tolerances `rtol`, `atol` the method
+    /// controls, (metres, radians): the larger of [`violation_limit`] and
+    /// [`roundoff_floor`] for this linkage.
+    pub fn violation_limits(&self, rtol: f64, atol: f64) -> (f64, f64) {
+        let (m, rad) = violation_limit(self.length_scale, rtol, atol);
+        let (floor_m, floor_rad) = roundoff_floor(self.length_scale, self.conditioning);
+        (m.max(floor_m), rad.max(floor_rad))
     }
 
     /// The constraint rows the DAE solves for (those found redundant at assembly left out).
@@ -658,6 +739,17 @@ impl Outputs for Dae {
         self.max_step_violation
     }
 
+    /// [`Dae::check_violation`] at the sample.
+    fn check_constraints(
+        &self,
+        t: f64,
+        y: &[f64],
+        rtol: f64,
+        atol: f64,
+    ) -> Result<(), FormulationError> {
+        self.check_violation(t, y, rtol, atol).map(|_| ())
+    }
+
     fn singular_passages(&self) -> Vec<f64> {
         Dae::singular_passages(self)
     }
@@ -743,35 +835,62 @@ fn subtract_constraint_forces(
 /// coincide (a body pinned at its own centre of mass): 1 mm, below any shipped link.
 pub const MIN_LENGTH_SCALE: f64 = 1e-3;
 
-/// Multiple of the tolerance-scaled error `rtol·L + atol` that the violation may reach before
-/// the floor of the bound takes over (see [`violation_limit`]).
+/// Multiple of the tolerance-scaled error `rtol·L + atol` that the violation may reach (see
+/// [`violation_limit`]).
 pub const VIOLATION_FACTOR: f64 = 100.0;
 
-/// Bound on the constraint violation |Φ| at an accepted step end: (metres for position rows,
-/// radians for angle rows: driver and prismatic-angle rows)
+/// Largest violation bound as a fraction of the linkage's length scale L (metres) or in
+/// radians: beyond a tenth of the linkage (5.7 ° of angle) the joints are visibly apart and no
+/// tolerance makes a result meaningful.
+pub const VIOLATION_CAP: f64 = 0.1;
+
+/// Bound on the constraint violation |Φ| of a reported state (every accepted step end and
+/// every output sample): metres for position rows, radians for angle rows (driver and
+/// prismatic-angle rows),
 ///
 /// ```text
-///     |Φ|_max = min(0.1 L, max(1e-3 L, 100 (rtol L + atol)))      (m)
-///     |Φ|_max = min(0.1,   max(1e-3,   100 (rtol + atol)))        (rad)
+///     |Φ|_max = min(0.1 L, 100 (rtol L + atol))      (m)
+///     |Φ|_max = min(0.1,   100 (rtol + atol))        (rad)
 /// ```
 ///
-/// with L the length scale of the linkage ([`Dae::length_scale`]). Why these numbers: an
+/// with L the length scale of the linkage ([`Dae::length_scale`]) and `rtol`, `atol` the
+/// tolerances the method controls ([`SolverOptions::controlled_tolerances`]: Radau5 controls
+/// 0.1·rtol^(2/3), Hairer's transformation, not the rtol asked for). Why these numbers: an
 /// integration to `rtol`, `atol` puts a local error of about `rtol·L + atol` on the positions
-/// each step, which Baumgarte's term (ref. 1) pulls back within a few 1/β; a hundred times that
-/// leaves room for the accumulation over those steps. The floor 1e-3 L (a thousandth of the
-/// linkage, 0.06 ° of angle) is where a result is still a picture of the linkage at tight
-/// tolerances, and keeps the bound clear of the round-off of the rows. Beyond 0.1 L (a tenth
-/// of the linkage, 5.7 ° of angle) no tolerance makes a result meaningful: the joints are
-/// visibly apart. Measured on the shipped models with rtol = atol from 1e-4 to 1e-12 (the
-/// clearance models included), the largest violation at the step ends stays at least ten times
-/// below the bound (see `tests/constraint_violation_bound.rs`).
+/// each step, which Baumgarte's term (ref. 1) pulls back within a few 1/β; a hundred times
+/// that leaves room for the accumulation over those steps. Measured on every shipped model,
+/// every method, rtol from 1e-3 to 1e-12 with atol = rtol and rtol/100 (2 turns;
+/// `cargo run --release --example violation_survey`, docs/numerics.md, "The
+/// constraint-violation bound"): the largest max |Φ| is 2.0 (rtol·L + atol), a factor of 49
+/// below the bound, and no tolerance-independent floor is needed down to rtol 1e-12 except the
+/// round-off of ill-conditioned linkages ([`roundoff_floor`], applied by
+/// [`Dae::violation_limits`]). The cap 0.1 L applies at tolerances so loose that the bound
+/// would pass it.
+///
+/// [`SolverOptions::controlled_tolerances`]: crate::solve::SolverOptions::controlled_tolerances
 pub fn violation_limit(length_scale: f64, rtol: f64, atol: f64) -> (f64, f64) {
     let l = length_scale;
-    let metres = (VIOLATION_FACTOR * (rtol * l + atol))
-        .max(1e-3 * l)
-        .min(0.1 * l);
-    let radians = (VIOLATION_FACTOR * (rtol + atol)).clamp(1e-3, 0.1);
+    let metres = (VIOLATION_FACTOR * (rtol * l + atol)).min(VIOLATION_CAP * l);
+    let radians = (VIOLATION_FACTOR * (rtol + atol)).min(VIOLATION_CAP);
     (metres, radians)
+}
+
+/// Multiple of ε κ L below which no tolerance can hold the violation (see [`roundoff_floor`]).
+pub const ROUNDOFF_FACTOR: f64 = 100.0;
+
+/// The round-off floor of the violation bound, (metres, radians) = (100 ε κ L, 100 ε κ), with
+/// κ = max over bodies of m L²/I (at least 1) and L the length scale. The constraint solve's
+/// Schur complement Φ_q M⁻¹ Φ_qᵀ has a condition number of the order of κ — a nearly point-like
+/// body rotates with almost no inertia — and loses that many ulps in the multipliers, which
+/// Baumgarte's term turns into a drift of the order of ε κ L whatever the tolerance. Measured on
+/// `models/pendulum.toml` with I = 1e-9 kg·m² (κ = 2.5e8, ε κ L = 2.8e-8 m), released at 170 °
+/// (`tests/pendulum_pivot_reaction.rs`): max |Φ| = 1.6e-8 m at rtol 1e-8 and 5.6e-9 m at rtol
+/// 1e-10, beyond 100 (rtol L + atol) = 5.1e-9 m there; the floor 2.8e-6 m leaves a factor 175.
+/// For a uniform rod (κ = 12 at L = its length) the floor is 2.6e-13 L, below every tolerance
+/// bound.
+pub fn roundoff_floor(length_scale: f64, conditioning: f64) -> (f64, f64) {
+    let radians = ROUNDOFF_FACTOR * f64::EPSILON * conditioning.max(1.0);
+    (radians * length_scale, radians)
 }
 
 /// Whether a constraint row is an angle (rad) rather than a position (m).
@@ -933,44 +1052,9 @@ impl Formulation for Dae {
             self.singular_passages.extend(self.episode.finish());
             self.spacing = projection::Spacing::default();
         }
-        let work = &mut *self.work.borrow_mut();
-        self.constraints_at(t, y, work);
-        let (limit_m, limit_rad) = violation_limit(self.length_scale, rtol, atol);
-        let mut worst: Option<(usize, f64)> = None;
-        for (k, phi) in work.constraints.phi.iter().enumerate() {
-            let value = phi.abs();
-            self.max_step_violation = self.max_step_violation.max(value);
-            let limit = if is_angle_row(self.constraints.sources()[k]) {
-                limit_rad
-            } else {
-                limit_m
-            };
-            // A NaN violation is a violation too.
-            if (value.is_nan() || value > limit) && worst.is_none_or(|(_, w)| value > w) {
-                worst = Some((k, value));
-            }
-        }
-        let Some((k, value)) = worst else {
-            return Ok(response);
-        };
-        let angle = is_angle_row(self.constraints.sources()[k]);
-        Err(FormulationError::ConstraintViolation {
-            t,
-            constraint: self.constraints.row_name(&self.model, k),
-            value,
-            limit: if angle { limit_rad } else { limit_m },
-            unit: if angle { "rad" } else { "m" },
-            bound: if angle {
-                format!(
-                    "min(0.1, max(1e-3, {VIOLATION_FACTOR}·(rtol + atol))) with rtol = {rtol:e}, atol = {atol:e}"
-                )
-            } else {
-                format!(
-                    "min(0.1 L, max(1e-3 L, {VIOLATION_FACTOR}·(rtol·L + atol))) with the length scale L = {:.3e} m, rtol = {rtol:e}, atol = {atol:e}",
-                    self.length_scale
-                )
-            },
-        })
+        let max = self.check_violation(t, y, rtol, atol)?;
+        self.max_step_violation = self.max_step_violation.max(max);
+        Ok(response)
     }
 
     /// Analytic: see `dae/jacobian.rs` (no RHS call).

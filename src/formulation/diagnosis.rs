@@ -123,7 +123,7 @@ fn dependent_rows(dae: &Dae, t: f64, q: &[f64], v: &[f64]) -> Option<String> {
     // Left singular vectors of Φ̃_q are the eigenvectors of Φ̃_q Φ̃_qᵀ (m × m); the SVD of
     // the transpose (n × m, n ≥ m for a formulation that assembled) gives them as its right
     // singular vectors, all m of them.
-    let svd = jac.transpose().svd(false, true);
+    let svd = super::assembly::bounded_svd(jac.transpose(), false, true)?;
     let v_t = svd.v_t?;
     let (mut k_min, mut s_min, mut s_max) = (0, f64::INFINITY, 0.0_f64);
     for (k, &s) in svd.singular_values.iter().enumerate() {

@@ -142,7 +142,8 @@ pub trait Formulation {
     fn residual_stages(&self, _min_pivot_ratio: f64) {}
 
     /// Called by the driver at the end of every accepted step, with the new state (t, y) and
-    /// the tolerances `rtol`, `atol` the step was accepted with, before the step is handed to
+    /// the tolerances `rtol`, `atol` the method controls
+    /// ([`SolverOptions::controlled_tolerances`](crate::solve::SolverOptions::controlled_tolerances)), before the step is handed to
     /// events and samples. A formulation checks here what must hold at every step, not only at
     /// the output samples (the DAE: the constraint violation |Φ| within its bound), and keeps
     /// running maxima. It may also correct the step end (the DAE projects it onto the
@@ -180,6 +181,21 @@ pub trait Outputs {
     /// Writes the columns at (t, y) into `out` (cleared first) and returns the largest
     /// constraint violation |Φ| at that sample (0 for formulations without constraints).
     fn outputs_into(&self, t: f64, y: &[f64], out: &mut Vec<f64>) -> Result<f64, FormulationError>;
+
+    /// Checks the constraint violation of a reported state between step ends (an output
+    /// sample, from the dense output) against the bound that [`Formulation::accept_step`]
+    /// applies at step ends, with the tolerances the method controls (the DAE:
+    /// [`dae::violation_limit`]). Default: nothing to check (no constraints, or, for the
+    /// generalised formulation, samples projected onto them).
+    fn check_constraints(
+        &self,
+        _t: f64,
+        _y: &[f64],
+        _rtol: f64,
+        _atol: f64,
+    ) -> Result<(), FormulationError> {
+        Ok(())
+    }
 
     /// Largest constraint violation |Φ| over the accepted step ends seen so far by
     /// [`Formulation::accept_step`] (m or rad; 0 for formulations without constraints).
@@ -247,7 +263,7 @@ pub enum FormulationError {
         /// The limit 0.1 R_J (m).
         limit: f64,
     },
-    /// The constraint violation at an accepted step end exceeded its bound (see
+    /// The constraint violation at an accepted step end or an output sample exceeded its bound (see
     /// [`dae::violation_limit`]): the trajectory has left the linkage's configuration space
     /// and no result computed from it can be trusted.
     #[error(

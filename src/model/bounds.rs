@@ -24,6 +24,44 @@ pub const MIN_MASS: f64 = 1e-15;
 /// m a²/6 = 1.3e-27 kg·m². The same reasoning as for [`MIN_MASS`].
 pub const MIN_INERTIA: f64 = 1e-30;
 
+/// Largest body mass (kg): the booms of the largest excavators and mining shovels weigh tens of
+/// tonnes; 1000 t leaves a margin of ten over any linkage. Beyond it the mass is a typing slip
+/// (`mass = 1e300` made the reference four-bar crawl for 106 s and 88 MB before failing).
+pub const MAX_MASS: f64 = 1e6;
+
+/// Largest radius of gyration k = √(I/m) of a body, as a multiple of the linkage's extent D
+/// (the largest distance between two of its points at the initial position: ground points,
+/// body centres of mass and body points). The points are the joints, which may span much less
+/// than the bodies: a rotating arm with k = 0.1 m whose joints lie within 0.25 mm
+/// (`tests/grazing_contact.rs`, k = 400 D), a flywheel on a short crank. A thousand times D
+/// still refuses what no body has: a 1e-12 kg link given I = 4.6e-3 kg·m² has k = 6.8e4 m on a
+/// 1 m four-bar (70 000 D).
+pub const MAX_GYRATION_PER_EXTENT: f64 = 1000.0;
+
+/// Largest |coordinate| of a point or an initial position (m): 1 km, ten times the largest
+/// machines (cranes, bridges' lifting spans are about 100 m).
+pub const MAX_COORDINATE: f64 = 1e3;
+
+/// Smallest extent D of a linkage (m): the largest distance between two of its points at the
+/// initial position. Micro-mechanisms (MEMS) are tens of µm across, their pins a few µm
+/// ([`MIN_JOURNAL_RADIUS`]); a linkage of 0.3 nm links took 235 s and 120 MB before failing.
+pub const MIN_EXTENT: f64 = 1e-6;
+
+/// Largest |angle| of an initial body angle or driver angle (rad): 1e4 rad is 1600 turns. The
+/// spacing of f64 values there is 1.8e-12 rad, so positions computed through sin and cos keep
+/// twelve digits; at 1e12 rad the spacing is 1.2e-4 rad and every position is off by about
+/// 1e-4 of the link (a run from φ = 1e12 ended with |Φ| ≈ 2e-4 m and exit 0).
+pub const MAX_ANGLE: f64 = 1e4;
+
+/// Largest driver speed and initial angular velocity (rad/s): 1e4 rad/s is 95 500 rpm, beyond
+/// the fastest crank trains (racing engines turn at about 20 000 rpm). A speed in rpm is
+/// checked after conversion: 1e308 rpm overflows to an infinite speed in rad/s.
+pub const MAX_SPEED: f64 = 1e4;
+
+/// Largest initial linear velocity (m/s) of a body's centre of mass: a point 1 m from its pivot
+/// turning at [`MAX_SPEED`].
+pub const MAX_VELOCITY: f64 = 1e4;
+
 /// Smallest journal radius R_J (m): pins of micro-mechanisms are a few µm.
 pub const MIN_JOURNAL_RADIUS: f64 = 1e-6;
 

@@ -73,6 +73,25 @@ pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<M
     if bodies.is_empty() {
         return Err(loc.whole("expected at least one [[bodies]] entry"));
     }
+    // The linkage's size bounds its smallest scale and every body's inertia (see `bounds`).
+    // A model whose points all coincide has no size to compare with: nothing to check.
+    let extent = extent(&ground_points, &bodies);
+    if extent > 0.0 && extent < MIN_EXTENT {
+        return Err(loc.whole(format!(
+            "the linkage spans {extent:.3e} m (the diagonal of the box around its points, body centres and ground points at the initial position); expected at least {MIN_EXTENT:e} m (real linkages: micro-mechanisms are tens of µm across)"
+        )));
+    }
+    if extent > 0.0 {
+        let mut built = bodies.iter();
+        for raw_body in &raw.bodies {
+            b.inertia_fits(raw_body, built.next(), extent)?;
+        }
+        for (rb, r) in &repeats {
+            for raw_body in &r.bodies {
+                rb.inertia_fits(raw_body, built.next(), extent)?;
+            }
+        }
+    }
     let scope = Scope {
         ground_points: &ground_points,
         bodies: &bodies,
@@ -105,6 +124,32 @@ pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<M
         source,
         notes: Vec::new(),
     })
+}
+
+/// The extent D of a linkage (m): the diagonal of the box around its ground points, body
+/// centres of mass and body points at the initial position. Within a factor √2 of the largest
+/// distance between two of them, which is all its uses (bounds with margins of ten) need.
+fn extent(ground: &[(String, [f64; 2])], bodies: &[Body]) -> f64 {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    let mut add = |p: [f64; 2]| {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    };
+    for (_, p) in ground {
+        add(*p);
+    }
+    for b in bodies {
+        let s = &b.initial;
+        let (sin, cos) = s.phi.sin_cos();
+        add([s.x, s.y]);
+        for (_, p) in &b.points {
+            add([s.x + cos * p[0] - sin * p[1], s.y + sin * p[0] + cos * p[1]]);
+        }
+    }
+    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
 }
 
 /// The joint whose angle and speed `theta` and `omega` name in force expressions: that of the
@@ -146,6 +191,14 @@ struct Builder<'l, 'a> {
 }
 
 type Res<T> = Result<T, ModelError>;
+
+/// Why coordinates are bounded ([`MAX_COORDINATE`]).
+const COORDINATE_WHY: &str = "real linkages: ten times the largest machines";
+/// Why angles are bounded ([`MAX_ANGLE`]).
+const ANGLE_WHY: &str =
+    "1600 turns; beyond it sin and cos of the angle lose the digits that place the links";
+/// Why speeds are bounded ([`MAX_SPEED`]).
+const SPEED_WHY: &str = "real linkages: the fastest crank trains turn at about 20 000 rpm";
 
 impl Builder<'_, '_> {
     fn err(&self, span: Range<usize>, message: impl Into<String>) -> ModelError {
@@ -445,17 +498,22 @@ impl Builder<'_, '_> {
     /// A finite value in `[min, max]`; `why` says where the bounds come from.
     fn within(&self, v: &Num, what: &str, min: f64, max: f64, why: &str) -> Res<f64> {
         let x = self.finite(v, what)?;
+        let a = if what.starts_with(['a', 'e', 'i', 'o', 'u']) {
+            "an"
+        } else {
+            "a"
+        };
         if (min..=max).contains(&x) {
             Ok(x)
         } else if max == f64::INFINITY {
             Err(self.err(
                 v.span(),
-                format!("expected a {what} of at least {min:e} ({why}), found {x:e}"),
+                format!("expected {a} {what} of at least {min:e} ({why}), found {x:e}"),
             ))
         } else {
             Err(self.err(
                 v.span(),
-                format!("expected a {what} in [{min:e}, {max:e}] ({why}), found {x:e}"),
+                format!("expected {a} {what} in [{min:e}, {max:e}] ({why}), found {x:e}"),
             ))
         }
     }
@@ -591,7 +649,17 @@ impl Builder<'_, '_> {
         let mut out = Vec::with_capacity(points.len());
         for (name, p) in points {
             let n = self.name_on(name, "point", &format!(" on {owner}"))?;
-            out.push((n, self.vec2(p, "point (m)")?));
+            let at = self.vec2(p, "point (m)")?;
+            if at.iter().any(|x| x.abs() > MAX_COORDINATE) {
+                return Err(self.err(
+                    p.span(),
+                    format!(
+                        "expected the coordinates of point \"{n}\" on {owner} in [{:e}, {MAX_COORDINATE:e}] m ({COORDINATE_WHY}), found [{:e}, {:e}]",
+                        -MAX_COORDINATE, at[0], at[1]
+                    ),
+                ));
+            }
+            out.push((n, at));
         }
         Ok(out)
     }
@@ -612,8 +680,8 @@ impl Builder<'_, '_> {
                 &b.mass,
                 "mass (kg)",
                 MIN_MASS,
-                f64::INFINITY,
-                "a 1 µm steel cube",
+                MAX_MASS,
+                "real linkages: from a 1 µm steel cube to ten times the largest excavator boom",
             )?;
             self.positive(&b.inertia, "moment of inertia (kg·m²)")?;
             let inertia = self.within(
@@ -625,19 +693,30 @@ impl Builder<'_, '_> {
             )?;
             let points = self.points(&b.points, &format!("body \"{name}\""))?;
             let i = b.initial.get_ref();
-            let opt = |v: &Option<Num>, what| {
+            let opt = |v: &Option<Num>, what, limit: f64, why| {
                 v.as_ref()
-                    .map(|v| self.finite(v, what))
+                    .map(|v| self.within(v, what, -limit, limit, why))
                     .transpose()
                     .map(|x| x.unwrap_or(0.0))
             };
+            let coordinate = |v: &Num, what| {
+                self.within(v, what, -MAX_COORDINATE, MAX_COORDINATE, COORDINATE_WHY)
+            };
+            const VELOCITY_WHY: &str =
+                "real linkages: a point 1 m from its pivot at 95 500 rpm moves at 1e4 m/s";
             let initial = BodyState {
-                x: self.finite(&i.x, "initial x (m)")?,
-                y: self.finite(&i.y, "initial y (m)")?,
-                phi: self.finite(&i.phi, "initial phi (rad)")?,
-                vx: opt(&i.vx, "initial vx (m/s)")?,
-                vy: opt(&i.vy, "initial vy (m/s)")?,
-                omega: opt(&i.omega, "initial omega (rad/s)")?,
+                x: coordinate(&i.x, "initial x (m)")?,
+                y: coordinate(&i.y, "initial y (m)")?,
+                phi: self.within(
+                    &i.phi,
+                    "initial phi (rad)",
+                    -MAX_ANGLE,
+                    MAX_ANGLE,
+                    ANGLE_WHY,
+                )?,
+                vx: opt(&i.vx, "initial vx (m/s)", MAX_VELOCITY, VELOCITY_WHY)?,
+                vy: opt(&i.vy, "initial vy (m/s)", MAX_VELOCITY, VELOCITY_WHY)?,
+                omega: opt(&i.omega, "initial omega (rad/s)", MAX_SPEED, SPEED_WHY)?,
             };
             let shapes = self.shapes(&b.shapes, &points, &name)?;
             bodies.push(Body {
@@ -650,6 +729,30 @@ impl Builder<'_, '_> {
             });
         }
         Ok(bodies)
+    }
+
+    /// Refuses a moment of inertia whose radius of gyration √(I/m) exceeds
+    /// [`MAX_GYRATION_PER_EXTENT`] times the linkage's `extent` (m).
+    fn inertia_fits(&self, raw: &BodyFile, body: Option<&Body>, extent: f64) -> Res<()> {
+        // Bodies are built from the same list in the same order; none left is a bug, not input.
+        let Some(body) = body else {
+            debug_assert!(false, "one built body per raw body");
+            return Ok(());
+        };
+        let limit = body.mass * (MAX_GYRATION_PER_EXTENT * extent).powi(2);
+        if body.inertia <= limit {
+            return Ok(());
+        }
+        Err(self.err(
+            raw.inertia.span(),
+            format!(
+                "expected a moment of inertia (kg·m²) of body \"{}\" of at most m·({MAX_GYRATION_PER_EXTENT}·D)² = {limit:.3e}, its mass m = {:.3e} kg at {MAX_GYRATION_PER_EXTENT} times the linkage's extent D = {extent:.3e} m (real linkages: bodies reach beyond their joints, but not by a thousand times the linkage), found {:.3e} (a radius of gyration √(I/m) of {:.3e} m)",
+                body.name,
+                body.mass,
+                body.inertia,
+                (body.inertia / body.mass).sqrt()
+            ),
+        ))
     }
 
     /// Resolves `body` and `point` names to an anchor; `owner` is e.g. `joint "A"`.
@@ -1290,7 +1393,9 @@ impl Builder<'_, '_> {
             let initial_angle = || -> Res<f64> {
                 Ok(d.initial_angle
                     .as_ref()
-                    .map(|v| self.finite(v, "initial angle (rad)"))
+                    .map(|v| {
+                        self.within(v, "initial angle (rad)", -MAX_ANGLE, MAX_ANGLE, ANGLE_WHY)
+                    })
                     .transpose()?
                     .unwrap_or(0.0))
             };
@@ -1361,6 +1466,14 @@ impl Builder<'_, '_> {
                             ),
                         ));
                     }
+                    if theta0.abs() > MAX_ANGLE {
+                        return Err(self.err(
+                            angle.span(),
+                            format!(
+                                "prescribed angle is {theta0:e} rad at t = 0; expected at most {MAX_ANGLE:e} rad in magnitude ({ANGLE_WHY})"
+                            ),
+                        ));
+                    }
                     (0.0, theta0, DriverMotion::PrescribedAngle(e))
                 }
                 _ => {
@@ -1402,11 +1515,35 @@ impl Builder<'_, '_> {
         name: &str,
         at: Range<usize>,
     ) -> Res<f64> {
+        // The bound applies to the speed in rad/s, after the conversion from rpm: a finite rpm
+        // can overflow it (1e308 rpm is an infinite speed in rad/s).
+        let bounded = |given: &Num, written: String, omega: f64| -> Res<f64> {
+            if omega.abs() <= MAX_SPEED {
+                Ok(omega)
+            } else {
+                Err(self.err(
+                    given.span(),
+                    format!(
+                        "expected a driver speed of at most {MAX_SPEED:e} rad/s ({:.0} rpm) in magnitude ({SPEED_WHY}), found {written}",
+                        MAX_SPEED * 30.0 / std::f64::consts::PI
+                    ),
+                ))
+            }
+        };
         match (rpm, rad_s) {
             (Some(rpm), None) => {
-                Ok(self.finite(rpm, &format!("{field}_rpm"))? * std::f64::consts::PI / 30.0)
+                let n = self.finite(rpm, &format!("{field}_rpm"))?;
+                let omega = n * std::f64::consts::PI / 30.0;
+                bounded(
+                    rpm,
+                    format!("{field}_rpm = {n:e}, {omega:.3e} rad/s"),
+                    omega,
+                )
             }
-            (None, Some(w)) => self.finite(w, &format!("{field} (rad/s)")),
+            (None, Some(w)) => {
+                let omega = self.finite(w, &format!("{field} (rad/s)"))?;
+                bounded(w, format!("{field} = {omega:e} rad/s"), omega)
+            }
             (Some(_), Some(w)) => Err(self.err(
                 w.span(),
                 format!("give either `{field}_rpm` or `{field}` (rad/s), not both"),

@@ -462,6 +462,19 @@ pub struct Model {
 }
 
 impl Model {
+    /// The smallest radial clearance c of the model's clearance joints (m), `None` without
+    /// any: the scale against which a constraint drift is judged (a drift of a tenth of the
+    /// clearance already moves the journal as far as the physics under study does).
+    pub fn smallest_clearance(&self) -> Option<f64> {
+        self.joints
+            .iter()
+            .filter_map(|j| match &j.kind {
+                JointKind::Clearance(c) => Some(c.clearance),
+                _ => None,
+            })
+            .reduce(f64::min)
+    }
+
     /// The body with this id.
     pub fn body(&self, id: BodyId) -> &Body {
         &self.bodies[id.0]

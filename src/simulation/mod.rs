@@ -230,7 +230,12 @@ impl Simulation {
         if let [d] = self.model.drivers.as_slice() {
             summary = summary.driver(d.initial_angle, d.speed);
         }
-        let mut observed = Observed::new(summary, sink, self.names.len());
+        let mut observed = Observed::new(
+            summary,
+            sink,
+            self.names.len(),
+            self.options.solver.controlled_tolerances(),
+        );
         let (stats, step_violation, singular_passages) = match &self.formulation {
             Built::Dae(f) => self.integrate(&mut (**f).clone(), &mut observed)?,
             Built::Reduced(f) => self.integrate(&mut (**f).clone(), &mut observed)?,

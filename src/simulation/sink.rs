@@ -68,16 +68,25 @@ pub(super) struct Observed<'s, S: SampleSink + ?Sized> {
     pub(super) consumer_time: Duration,
     row: Vec<f64>,
     peaks: PeakSearch,
+    /// The tolerances (rtol, atol) the method controls, for the constraint check of the samples
+    /// ([`Outputs::check_constraints`]).
+    tolerances: (f64, f64),
 }
 
 impl<'s, S: SampleSink + ?Sized> Observed<'s, S> {
-    pub(super) fn new(summary: SummaryBuilder, consumer: &'s mut S, columns: usize) -> Self {
+    pub(super) fn new(
+        summary: SummaryBuilder,
+        consumer: &'s mut S,
+        columns: usize,
+        tolerances: (f64, f64),
+    ) -> Self {
         Observed {
             summary,
             consumer,
             consumer_time: Duration::ZERO,
             row: Vec::with_capacity(columns),
             peaks: PeakSearch::default(),
+            tolerances,
         }
     }
 }
@@ -86,6 +95,10 @@ impl<F: Formulation + Outputs + ContactProbe, S: SampleSink + ?Sized> Sink<F> fo
     fn sample(&mut self, f: &F, t: f64, y: &[f64]) -> Result<(), SolveError> {
         let violation = f
             .outputs_into(t, y, &mut self.row)
+            .map_err(|source| SolveError::Formulation { t, source })?;
+        // A sample between step ends is held to the same bound as the step ends.
+        let (rtol, atol) = self.tolerances;
+        f.check_constraints(t, y, rtol, atol)
             .map_err(|source| SolveError::Formulation { t, source })?;
         self.summary.sample_at(t, &self.row, violation);
         let started = Instant::now();

@@ -28,9 +28,9 @@ pub struct RunSummary {
     /// Number of output samples.
     pub samples: usize,
     /// Largest constraint violation |Φ| over the output samples and every accepted step end
-    /// (m or rad; 0 for the reduced formulation). A DAE run whose |Φ| passes the bound of
-    /// [`violation_limit`](crate::formulation::dae::violation_limit) at a step end stops with
-    /// an error instead.
+    /// (m or rad; 0 for the reduced formulation). A DAE run whose |Φ| passes its bound
+    /// ([`Dae::violation_limits`](crate::formulation::Dae::violation_limits)) at a step end or a
+    /// sample stops with an error instead.
     pub max_constraint_violation: f64,
     /// Times (s) at which a DAE run passed a singular position of the linkage, one per passage
     /// ([`Dae::singular_passages`](crate::formulation::Dae::singular_passages)): the DAE keeps

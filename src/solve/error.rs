@@ -48,7 +48,7 @@ pub enum SolveError {
 
     /// The run stopped making progress: over the last attempts the step size collapsed so far
     /// that t_end could not be reached within `max_steps` (see `solve::progress`).
-    #[error("{}", no_progress_message(*t, *h, *advance, *attempts, *projected, *stiff, implicit, diagnosis.as_deref()))]
+    #[error("{}", no_progress_message(*t, *h, *advance, *attempts, *projected, *budget, *stiff, implicit, diagnosis.as_deref()))]
     NoProgress {
         /// Time reached (s).
         t: f64,
@@ -60,6 +60,8 @@ pub enum SolveError {
         attempts: u64,
         /// Attempts still needed at this pace.
         projected: f64,
+        /// Attempts that `max_steps` still allows.
+        budget: f64,
         /// The method's stiffness test fired: the step is limited by stability.
         stiff: bool,
         /// Implicit methods available to suggest (`"a" or "b"`; empty if none).
@@ -186,12 +188,13 @@ fn no_progress_message(
     advance: f64,
     attempts: u64,
     projected: f64,
+    budget: f64,
     stiff: bool,
     implicit: &str,
     diagnosis: Option<&str>,
 ) -> String {
     let head = format!(
-        "no progress at t = {t:.9} s: the last {attempts} step attempts advanced t by {advance:.3e} s (mean step {h:.3e} s); reaching t_end at this pace needs about {projected:.1e} more attempts"
+        "no progress at t = {t:.9} s: the last {attempts} step attempts advanced t by {advance:.3e} s (mean step {h:.3e} s); reaching t_end at this pace needs about {projected:.1e} more attempts, max_steps allows {budget:.1e}"
     );
     let cause = if stiff {
         let advice = if implicit.is_empty() {
@@ -201,6 +204,11 @@ fn no_progress_message(
         };
         format!(
             "{head}. The step size is limited by stability, not accuracy: the problem is stiff here (e.g. a long contact phase). Use {advice}; loosening rtol/atol will not help"
+        )
+    } else if attempts > super::progress::WINDOW as u64 {
+        // The sustained-pace rule: a steady step, too small for the budget.
+        format!(
+            "{head}. The step size has stayed this small for {attempts} attempts: something keeps it there (a long contact phase, a stiff element, a step guard); raise --max-steps if the run must go on"
         )
     } else {
         format!(

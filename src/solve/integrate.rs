@@ -191,7 +191,7 @@ mod tests {
         assert_eq!(times(0.0, 1.0, 0.25), vec![0.0, 0.25, 0.5, 0.75, 1.0]);
         // 0.1·3 = 0.30000000000000004 > 0.3, but within 1e-9·dt: sampled at exactly 0.3.
         assert_eq!(times(0.0, 0.3, 0.1), vec![0.0, 0.1, 0.2, 0.3]);
-        // Off the grid: one more, shorter interval to t_end (issue 14).
+        // Off the grid: one more, shorter interval to t_end (the end time is always sampled).
         assert_eq!(times(0.0, 1.1, 0.25), vec![0.0, 0.25, 0.5, 0.75, 1.0, 1.1]);
         assert_eq!(times(0.0, 0.48, 0.3), vec![0.0, 0.3, 0.48]);
         assert_eq!(times(0.0, 0.48, 1.0), vec![0.0, 0.48]);

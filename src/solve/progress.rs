@@ -20,6 +20,19 @@
 //! pairs in a long contact phase take ~40 µs steps because the contact is stiff; that is slow
 //! but steady progress and does not trigger the rule.
 //!
+//! **Sustained-pace rule.** The rule above lets a run go on whose pace projects between one
+//! and a hundred times the remaining budget: it fires only once the budget is nearly spent,
+//! after up to `max_steps` attempts — minutes, not seconds (a 1e300 kg crank crawled for 106 s
+//! that way before model validation refused such masses). So, once a tenth of `max_steps` is
+//! spent, with Δ_long the advance over the last W_long = 10 000 attempts: the run stops when
+//! P_long = W_long·(t_end − t_a)/Δ_long exceeds the remaining budget max_steps − a itself, at a
+//! tenth of the budget instead of at its end. It waits for that tenth because a pace alone
+//! cannot tell a crawl that ends from one that does not: the as-printed friction law of
+//! `linkdyn reproduce --quick` (a reproduction aid with sticking phases of tiny steps) has
+//! windows of 10 000 attempts that project 1–30 times the budget in runs that then finish
+//! within it. On the reference runs below the slowest such window projects at most 2.8e-3 of
+//! the budget (`tests/no_progress.rs`).
+//!
 //! **Stiff or collapsed.** When the rule fires, the message says the problem is stiff if the
 //! method's stiffness test has fired ([`Integrator::stiffness_detected`]: for the explicit
 //! pairs, Hairer's hλ estimate beyond the stability boundary on 15 recent steps) and suggests
@@ -37,13 +50,17 @@ use super::options::implicit_methods;
 pub(crate) const WINDOW: usize = 1000;
 /// Factor between the projected attempts and the remaining budget that stops a run.
 pub(crate) const STALL_FACTOR: f64 = 100.0;
+/// Attempts in the window of the sustained-pace rule.
+pub(crate) const LONG_WINDOW: usize = 10_000;
+/// Fraction of `max_steps` after which the sustained-pace rule applies.
+pub(crate) const LATE_FRACTION: f64 = 0.1;
 
 /// Wall clock and the window of attempt start times.
 pub(crate) struct Progress {
     started: Instant,
     t0: f64,
     max_wall: Option<f64>,
-    /// t at the start of each of the last `WINDOW` attempts (a ring).
+    /// t at the start of each of the last `LONG_WINDOW` attempts (a ring).
     ring: Vec<f64>,
     next: usize,
     attempts: u64,
@@ -70,7 +87,7 @@ impl Progress {
             started: Instant::now(),
             t0,
             max_wall,
-            ring: vec![0.0; WINDOW],
+            ring: vec![0.0; LONG_WINDOW],
             next: 0,
             attempts: 0,
         }
@@ -90,36 +107,56 @@ impl Progress {
                 });
             }
         }
+        // The start W attempts ago is the ring's entry W − 1 places behind the one about to be
+        // overwritten (the oldest, LONG_WINDOW attempts ago).
+        let n = LONG_WINDOW;
+        let short_ago = self.ring.get((self.next + n - WINDOW) % n).copied();
         let Some(slot) = self.ring.get_mut(self.next) else {
             debug_assert!(false, "ring index out of range");
             return Ok(());
         };
-        let oldest = std::mem::replace(slot, at.t);
-        self.next = (self.next + 1) % WINDOW;
+        let long_ago = std::mem::replace(slot, at.t);
+        self.next = (self.next + 1) % n;
         self.attempts += 1;
-        if self.attempts <= WINDOW as u64 {
-            return Ok(());
-        }
-        let advance = at.t - oldest;
         let remaining = at.t_end - at.t;
-        let projected = if advance > 0.0 {
-            WINDOW as f64 * remaining / advance
-        } else {
-            f64::INFINITY
-        };
         let budget = at.max_steps.saturating_sub(at.attempts) as f64;
-        if remaining > 0.0 && projected > STALL_FACTOR * budget {
-            return Err(SolveError::NoProgress {
+        let stall = |window: usize, oldest: f64| {
+            let advance = at.t - oldest;
+            let projected = if advance > 0.0 {
+                window as f64 * remaining / advance
+            } else {
+                f64::INFINITY
+            };
+            SolveError::NoProgress {
                 t: at.t,
-                h: advance / WINDOW as f64,
+                h: advance / window as f64,
                 advance,
-                attempts: WINDOW as u64,
+                attempts: window as u64,
                 projected,
+                budget,
                 stiff: at.stiff,
                 implicit: implicit_methods(),
                 // Filled in by the driver, which holds the state (`Stepper::advance`).
                 diagnosis: None,
-            });
+            }
+        };
+        if remaining <= 0.0 {
+            return Ok(());
+        }
+        if self.attempts > WINDOW as u64
+            && let Some(oldest) = short_ago
+        {
+            let e = stall(WINDOW, oldest);
+            if matches!(e, SolveError::NoProgress { projected, .. } if projected > STALL_FACTOR * budget)
+            {
+                return Err(e);
+            }
+        }
+        if self.attempts > n as u64 && self.attempts as f64 >= LATE_FRACTION * at.max_steps as f64 {
+            let e = stall(n, long_ago);
+            if matches!(e, SolveError::NoProgress { projected, .. } if projected > budget) {
+                return Err(e);
+            }
         }
         Ok(())
     }

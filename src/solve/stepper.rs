@@ -422,12 +422,11 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             }
             std::mem::swap(&mut self.y_old, &mut self.y);
             self.y.copy_from_slice(y_new);
-            // What must hold at every accepted step, not only at samples (the DAE's |Φ|); the
-            // formulation may correct the step end, and the method then restarts from it.
-            match self
-                .f
-                .accept_step(t_new, &mut self.y, self.opts.rtol, self.opts.atol)
-            {
+            // What must hold at every accepted step, not only at samples (the DAE's |Φ|), with
+            // the tolerances the method controls; the formulation may correct the step end, and
+            // the method then restarts from it.
+            let (rtol, atol) = self.opts.controlled_tolerances();
+            match self.f.accept_step(t_new, &mut self.y, rtol, atol) {
                 Ok(EventResponse::Continue) => {}
                 Ok(EventResponse::Restart) => self.restart_before_next_step = true,
                 Err(source) => {
@@ -458,6 +457,7 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                 advance,
                 attempts,
                 projected,
+                budget,
                 stiff,
                 implicit,
                 diagnosis: None,
@@ -467,6 +467,7 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                 advance,
                 attempts,
                 projected,
+                budget,
                 stiff,
                 implicit,
                 diagnosis: self.f.diagnose(self.t, &self.y),

@@ -1,4 +1,4 @@
-//! Work against precision (issue 11 §5): every formulation × method × tolerance of a model, its
+//! Work against precision (docs/numerics.md, "Work against precision"): every formulation × method × tolerance of a model, its
 //! error against a reference run and its cost (wall time, right-hand-side evaluations).
 //!
 //! **Reference.** Per formulation, the most accurate method ([`WorkPrecisionOptions::reference_method`],

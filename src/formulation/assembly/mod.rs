@@ -156,10 +156,38 @@ fn least_norm(normal: &mut Schur, eval: &ConstraintEval, r: &[f64], n: usize) ->
         }
     }
     let jac = dense_jacobian(eval, n);
-    let svd = jac.svd(true, true);
+    let svd = bounded_svd(jac, true, true)?;
     let eps = 1e-12 * svd.singular_values.max().max(1e-300);
     let step = svd.solve(&DVector::from_column_slice(r), eps).ok()?;
     Some(step.iter().copied().collect())
+}
+
+/// Largest number of implicit-shift QR iterations of [`bounded_svd`] per singular value.
+/// nalgebra's `svd` iterates until it converges, with no limit: on a matrix with an infinite
+/// entry (a driver speed of 1e308 rpm, infinite in rad/s) it never did, and `linkdyn check`
+/// hung. A converging bidiagonal QR needs two or three iterations per singular value (LAPACK's
+/// `dbdsqr` allows six per value and sweep); a hundred is far beyond any converging case.
+pub(crate) const SVD_ITERATIONS_PER_VALUE: usize = 100;
+
+/// The SVD of `m`, or `None` where an entry is not finite or the iteration does not converge
+/// within [`SVD_ITERATIONS_PER_VALUE`] per singular value.
+pub(crate) fn bounded_svd(
+    m: DMatrix<f64>,
+    compute_u: bool,
+    compute_v: bool,
+) -> Option<nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>> {
+    if !m.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let values = m.nrows().min(m.ncols()).max(1);
+    // nalgebra's `svd` convergence threshold (5 ε), so that a converging SVD is the same to the
+    // last bit as before the limit.
+    m.try_svd(
+        compute_u,
+        compute_v,
+        5.0 * f64::EPSILON,
+        SVD_ITERATIONS_PER_VALUE * values,
+    )
 }
 
 /// x += l · (row of Φ_q)ᵀ.
@@ -418,7 +446,10 @@ fn project_velocities(jac: &DMatrix<f64>, phi_t: &[f64], guess: &DVector<f64>) -
     }
     let phi_t = DVector::from_column_slice(phi_t);
     let defect = jac * guess + &phi_t;
-    let svd = jac.clone().svd(true, true);
+    // An SVD that does not converge leaves the guess, reported as inconsistent (∞).
+    let Some(svd) = bounded_svd(jac.clone(), true, true) else {
+        return (guess.iter().copied().collect(), f64::INFINITY);
+    };
     let eps = 1e-12 * svd.singular_values.max().max(1e-300);
     let correction = svd
         .solve(&defect, eps)
@@ -575,7 +606,9 @@ fn combination(jac: &DMatrix<f64>, k: usize, rows: &[usize]) -> Vec<f64> {
     }
     let basis = DMatrix::from_fn(jac.ncols(), rows.len(), |c, r| jac[(rows[r], c)]);
     let target: DVector<f64> = jac.row(k).transpose();
-    let svd = basis.svd(true, true);
+    let Some(svd) = bounded_svd(basis, true, true) else {
+        return vec![0.0; rows.len()];
+    };
     let eps = 1e-12 * svd.singular_values.max().max(1e-300);
     match svd.solve(&target, eps) {
         Ok(c) => c.iter().copied().collect(),

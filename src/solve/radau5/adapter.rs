@@ -73,7 +73,7 @@ impl<F: Formulation + ?Sized> Integrator<F> for Radau5Method {
     /// step. Hairer's `hinit` (as the explicit pairs use) was tried: on the clearance four-bar
     /// (reduced formulation, rtol 1e-10) its different step sequence met a contact phase with
     /// an underestimated local error and ended 4.5e-6 rad off the DOP853 reference instead of
-    /// 1e-9 (see the report of issue 11 part 4); until that is understood, RADAU5's choice.
+    /// 1e-9 (docs/numerics.md, "Radau5 at events"); until that is understood, RADAU5's choice.
     fn initial_step(
         &mut self,
         _f: &F,

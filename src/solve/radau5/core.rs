@@ -133,8 +133,7 @@ impl Radau5Core {
     /// step `h_max` and `settings` (validated by the caller for this n).
     pub fn new(n: usize, rtol: f64, atol: f64, h_max: f64, settings: &Radau5Settings) -> Self {
         let (rtol, atol) = if settings.hairer_tolerances {
-            let r = 0.1 * rtol.powf(2.0 / 3.0);
-            (r, atol * r / rtol)
+            crate::solve::options::hairer_transform(rtol, atol)
         } else {
             (rtol, atol)
         };
