@@ -366,7 +366,12 @@ fn run_with_scan(sim: &Simulation) -> (RunSummary, Vec<Vec<ScannedStep>>) {
         summary = summary.driver(d.initial_angle, d.speed);
     }
     let mut scan = DenseScan {
-        inner: Observed::new(summary, &mut consumer, sim.names.len()),
+        inner: Observed::new(
+            summary,
+            &mut consumer,
+            sim.names.len(),
+            sim.options.solver.controlled_tolerances(),
+        ),
         steps: vec![Vec::new(); sim.clearance_joints.len()],
     };
     fn go<F: Formulation + Outputs + ContactProbe, S: SampleSink + ?Sized>(
