@@ -16,11 +16,11 @@
 //! floor of 5.0e-15 s, and passed: the failure depended on where a step happened to end and on
 //! t_end, not on the physics.
 //!
-//! The fix (`src/solve/radau5/core.rs`): a crossing in the first 1 % of an attempt is not cut
-//! (the mirror of the rule for the last 1 %: the old law holds on a sliver only, where the
-//! polynomial is pinned to the step's start), and Gustafsson's term is not applied to a cut
-//! retry, whose size the event chose. The sweep side (a failed point no longer ends the sweep)
-//! is tested in `tests/cli_sweep_failures.rs`.
+//! The fix (`src/solve/radau5/core.rs`, `event_cut`): a crossing in the first 1 % of an
+//! attempt is not cut — the mirror of the rule for the last 1 %: the old law holds on a sliver
+//! only, where the polynomial is pinned to the step's start — so a cut retry is at least 1 % of
+//! the attempt it replaces. The sweep side (a failed point no longer ends the sweep) is tested
+//! in `tests/issue_29_sweep_failed_points.rs`.
 
 mod common;
 
@@ -91,7 +91,10 @@ fn the_failed_point_runs_at_every_phase_and_agrees_with_dop853() {
 }
 
 /// A denser slice of the sweep around the point: 11 clearances 0.490 … 0.500 mm (1 µm apart)
-/// with Radau5, each its own step sequence, all period one.
+/// with Radau5, each its own step sequence, all period one. Before the fix these passed too
+/// (as did 20 clearances 0.05 µm apart around 0.4955 mm): the collapse needed a step to end
+/// within about 1e-13 s of a kink crossing. The slice guards the neighbourhood; the point
+/// itself and the rule below are what failed.
 #[test]
 fn a_dense_slice_around_the_point_finishes() {
     for k in 0..=10 {

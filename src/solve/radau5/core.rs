@@ -445,10 +445,8 @@ impl Radau5Core {
             self.need_jac = !self.jac_current;
             return Err(e);
         }
-        // Gustafsson's predictive controller, except after a cut retry: the event, not the
-        // error, chose that step's size, and the ratio h_acc/h of a step cut to a small part of
-        // the last one would read as error growth and shrink the next step by up to 5× more.
-        if s.predictive && self.accepted_since_start > 0 && !self.cut_retry {
+        if s.predictive && self.accepted_since_start > 0 {
+            // Gustafsson's predictive controller.
             let facgus = (self.h_acc / h) * (err * err / self.err_acc).powf(0.25) / s.safety;
             quot = quot.max(facgus.clamp(1.0 / hi, 1.0 / lo));
         }
