@@ -362,7 +362,12 @@ pub fn bifurcation<'py>(
             failed.join("; ")
         );
         let warning = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
-        PyErr::warn(py, &warning, &std::ffi::CString::new(text).unwrap_or_default(), 1)?;
+        PyErr::warn(
+            py,
+            &warning,
+            &std::ffi::CString::new(text).unwrap_or_default(),
+            1,
+        )?;
     }
     Ok(record)
 }

@@ -17,6 +17,7 @@ import linkdyn
 
 MODEL = "models/farahan2016.toml"
 POINT = re.compile(r"^point \d+ \([^)]*\): ")
+PARAM = re.compile(r"^param [^ :]+: ")
 
 
 def flag(name: str) -> str:
@@ -28,8 +29,9 @@ def cli_spelling(e: linkdyn.LinkdynError) -> str:
     text = str(e)
     m = POINT.match(text)
     prefix, text = (m.group(0), text[m.end():]) if m else ("", text)
-    if text.startswith("param "):
-        text = "--" + text
+    m = PARAM.match(text)
+    if m:
+        prefix, text = prefix + "--" + m.group(0), text[m.end():]
     if isinstance(e, linkdyn.SettingsError):
         reason = text[len(e.option) + 2:]
         parts = reason.split("`")
