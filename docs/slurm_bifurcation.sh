@@ -40,7 +40,15 @@ if [[ -z "${SLURM_ARRAY_TASK_ID:-}" ]]; then
     exit 0
 fi
 
+status=0
 linkdyn bifurcation "$MODEL" "${SWEEP[@]}" \
     --shard "$((SLURM_ARRAY_TASK_ID))/${SLURM_ARRAY_TASK_COUNT}" \
     --threads "${SLURM_CPUS_PER_TASK:-1}" --resume \
-    --out "${OUT}.shard${SLURM_ARRAY_TASK_ID}.csv"
+    --out "${OUT}.shard${SLURM_ARRAY_TASK_ID}.csv" || status=$?
+# Exit 5: the shard finished, but some points failed; they are in its files (verdict "failed",
+# NaN rows, the message), so the merge may run. Re-running this task (--resume) retries them.
+if [[ $status -eq 5 ]]; then
+    echo "shard ${SLURM_ARRAY_TASK_ID}: finished with failed points (see the message above)" >&2
+    exit 0
+fi
+exit "$status"

@@ -257,9 +257,12 @@ fn sharded_sweep_merged_equals_the_unsharded_one_byte_for_byte() {
     );
     let marks = read(&verdicts(&whole));
     let mut lines = marks.lines().filter(|l| !l.starts_with('#'));
-    assert_eq!(lines.next(), Some("index,joints.B.clearance,verdict,k"));
+    assert_eq!(
+        lines.next(),
+        Some("index,joints.B.clearance,verdict,k,message")
+    );
     // Measured: every point of this range is period one at 3500 rpm.
-    assert_eq!(lines.next(), Some("0,0.0002,period,1"));
+    assert_eq!(lines.next(), Some("0,0.0002,period,1,"));
     assert_eq!(lines.count(), 5, "one verdict per point");
     let merged = dir.join("merged.csv");
     ok(&["merge", &s(&a), &s(&b), "--out", &s(&merged)]);

@@ -105,8 +105,11 @@ class Bifurcation:
 
     Rows (the command's ``F.csv``, ``index,<param>,turn,<observe>``, revs − transient rows per
     point, in index order): ``index``, ``parameter``, ``turn``, ``value``. Points (its
-    ``F.verdicts.csv``, ``index,<param>,verdict,k``): ``point_index``, ``point_parameter``,
-    ``verdict``, ``k``. ``value.reshape(len(point_index), -1)`` is one row per point.
+    ``F.verdicts.csv``, ``index,<param>,verdict,k,message``): ``point_index``,
+    ``point_parameter``, ``verdict``, ``k``, ``message``. ``value.reshape(len(point_index),
+    -1)`` is one row per point. A point that failed (its model, simulation or integration) has
+    NaN values, the verdict ``"failed"`` and its error in ``message``; ``failures`` maps its
+    index to that message.
     """
 
     #: The swept field (a ``set=`` path, e.g. ``joints.B.clearance``).
@@ -125,15 +128,26 @@ class Bifurcation:
     point_index: IntArray
     #: Parameter value of each point.
     point_parameter: FloatArray
-    #: Verdict of each point: ``"period"``, ``"no_period"`` or ``"not_settled"``.
+    #: Verdict of each point: ``"period"``, ``"no_period"``, ``"not_settled"`` or
+    #: ``"failed"``.
     verdict: List[str]
     #: Period k of each point (0 unless ``"period"``), int64.
     k: IntArray
+    #: Error message of each point (``""`` unless ``"failed"``).
+    message: List[str]
     #: The provenance of the command's files (settings include the sweep's).
     provenance: Dict[str, Any] = field(compare=False)
 
     def __len__(self) -> int:
         return len(self.index)
+
+    @property
+    def failures(self) -> Dict[int, str]:
+        """Point index → error message of every failed point (empty if none failed)."""
+        return {
+            int(i): m for i, v, m in zip(self.point_index, self.verdict, self.message)
+            if v == "failed"
+        }
 
     def to_pandas(self) -> Any:
         """The rows as a ``pandas.DataFrame``: ``index``, the parameter (named by its path),

@@ -168,8 +168,10 @@ class Model:
         tqdm bar (a line on stderr without tqdm), ``False``/``None`` nothing, or a callable
         ``progress(done, total)``; it is called from the calling thread between points, taking
         the GIL briefly. Ctrl-C or an exception from the callback stops the sweep (points in
-        flight finish first). A failed point raises its error with ``point I (PARAM = VALUE):``
-        in front and the attributes ``point`` and ``parameter``.
+        flight finish first). A point that fails does not stop the others: its rows are NaN, its
+        verdict ``"failed"`` with the error in ``message`` (``failures`` maps index → message),
+        and a ``RuntimeWarning`` names the failed points. Bad input (including a ``to`` the
+        model refuses) raises before any point runs.
 
         The model file must be unchanged since ``load`` (each point reads it again; a changed
         file is refused) and reachable by the path given to ``load`` from the current

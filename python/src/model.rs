@@ -291,9 +291,11 @@ impl PyModel {
     /// GIL; `shard="i/n"` runs shard i of n (1-based). `progress`: True a tqdm bar (a line on
     /// stderr without tqdm), False/None nothing, or a callable `progress(done, total)`, called
     /// from the calling thread between points with the GIL taken briefly. Ctrl-C or an
-    /// exception from the callback stops the sweep (points in flight finish first). A failed
-    /// point raises its error with `point I (PARAM = VALUE): ` in front and the attributes
-    /// `point` and `parameter`. Returns a `linkdyn.Bifurcation` (rows in index order).
+    /// exception from the callback stops the sweep (points in flight finish first). A point
+    /// that fails does not stop the others: its rows are NaN, its verdict `"failed"` with the
+    /// error in `message` (`failures` maps index → message), and a `RuntimeWarning` names the
+    /// failed points. Bad input (including a `to` the model refuses) raises before any point
+    /// runs. Returns a `linkdyn.Bifurcation` (rows in index order).
     ///
     /// The model file must be unchanged since `load` and reachable by the path given to it.
     #[pyo3(signature = (param, observe, *, from_ = None, to = None, steps = None, values = None,

@@ -9,6 +9,11 @@
 //! progress display and to let Python handle signals. Ctrl-C (or an exception from a progress
 //! callback) stops the sweep: points not yet started are skipped, the points in flight finish
 //! (a point cannot be cut short), then the exception is raised.
+//!
+//! # Failed points
+//! As on the command line, a point whose model, simulation or integration fails does not end
+//! the sweep: its rows are NaN, its verdict `"failed"` with the message in `message`, and a
+//! `RuntimeWarning` names the failed points once the sweep is done.
 
 use crate::analyses::{floats, ints, provenance, record};
 use crate::errors::{self, Failed};
@@ -212,16 +217,15 @@ impl SweepArgs {
             )
             .into());
         }
-        if !first.column_names().iter().any(|c| c == &self.observe) {
-            return Err(Error::settings(
-                "observe",
-                format!(
-                    "no output column \"{}\"; the columns are {}",
-                    self.observe,
-                    first.column_names().join(", ")
-                ),
-            )
-            .into());
+        // The other end of the grid too (a bad `to` is bad input, not a failed point), and the
+        // section's settings on both ends, as the command line checks them.
+        let sweep = self.sweep(path, model, &plan);
+        sweep.section.check(&first)?;
+        if let Some(&last) = plan.values.last().filter(|_| plan.values.len() > 1) {
+            let sim = sweep
+                .simulation(last)
+                .map_err(|e| Failed::prefixed(e, format!("param {}", self.param)))?;
+            sweep.section.check(&sim)?;
         }
         Ok(plan)
     }
@@ -232,8 +236,6 @@ impl SweepArgs {
 struct Progressed {
     /// Points finished (failed ones included).
     done: usize,
-    /// The first point to fail, in order of completion.
-    first_failure: Option<usize>,
     /// `run_points` has returned.
     finished: bool,
 }
@@ -275,7 +277,7 @@ pub fn bifurcation<'py>(
                     &plan.grid,
                     &plan.indices,
                     |i, _| {
-                        // After a failure or an interrupt, points not yet started are skipped.
+                        // After an interrupt, points not yet started are skipped.
                         if stop.load(Ordering::Relaxed) {
                             return None;
                         }
@@ -283,12 +285,8 @@ pub fn bifurcation<'py>(
                     },
                     |p: &SweepPoint<Option<SweepResult>>| -> Result<(), AnalysisError> {
                         let mut s = lock();
-                        if let Some(result) = &p.result {
+                        if p.result.is_some() {
                             s.done += 1;
-                            if result.is_err() && s.first_failure.is_none() {
-                                s.first_failure = Some(p.index);
-                                stop.store(true, Ordering::Relaxed);
-                            }
                         }
                         changed.notify_all();
                         Ok(())
@@ -342,19 +340,36 @@ pub fn bifurcation<'py>(
             ));
         }
     };
-    let first_failure = lock().first_failure;
-    if let Some(index) = first_failure {
-        let failed = points.iter().find(|p| p.index == index);
-        if let Some((p, Some(Err(e)))) = failed.map(|p| (p, &p.result)) {
-            let value = plan.values.get(p.index).copied().unwrap_or(p.parameter);
-            let attrs = PyDict::new(py);
-            attrs.set_item("point", p.index)?;
-            attrs.set_item("parameter", value)?;
-            let prefix = format!("point {} ({} = {})", p.index, a.param, format_number(value));
-            return Err(errors::to_py_with(py, e, None, Some(&prefix), Some(&attrs)));
-        }
+    let record = build(py, &a, &plan, &points)?;
+    let failed: Vec<String> = points
+        .iter()
+        .filter_map(|p| match &p.result {
+            Some(Err(e)) => Some(format!(
+                "point {} ({} = {}) failed: {}",
+                p.index,
+                a.param,
+                format_number(plan.values.get(p.index).copied().unwrap_or(p.parameter)),
+                errors::message(e)
+            )),
+            _ => None,
+        })
+        .collect();
+    if !failed.is_empty() {
+        let text = format!(
+            "{} of {} points; {} (their rows are NaN, their verdict \"failed\", the messages in `message`)",
+            points.len() - failed.len(),
+            points.len(),
+            failed.join("; ")
+        );
+        let warning = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+        PyErr::warn(
+            py,
+            &warning,
+            &std::ffi::CString::new(text).unwrap_or_default(),
+            1,
+        )?;
     }
-    build(py, &a, &plan, &points)
+    Ok(record)
 }
 
 /// The record of a finished sweep: its rows and its verdicts, in index order.
@@ -365,28 +380,44 @@ fn build<'py>(
     points: &[SweepPoint<Option<SweepResult>>],
 ) -> PyResult<Bound<'py, PyAny>> {
     let (mut index, mut parameter, mut turn, mut value) = (vec![], vec![], vec![], vec![]);
-    let (mut point_index, mut point_parameter, mut verdict, mut k) =
-        (vec![], vec![], vec![], vec![]);
+    let (mut point_index, mut point_parameter, mut verdict, mut k, mut message) =
+        (vec![], vec![], vec![], vec![], vec![]);
     for p in points {
-        let Some(Ok(s)) = &p.result else { continue };
+        let Some(result) = &p.result else { continue };
         let v = plan.values.get(p.index).copied().unwrap_or(p.parameter);
-        for (t, point) in s.turns.iter().zip(&s.section.points) {
-            for x in point {
-                index.push(p.index);
-                parameter.push(v);
-                turn.push(*t);
-                value.push(*x);
+        let (name, period, text) = match result {
+            Ok(s) => {
+                for (t, point) in s.turns.iter().zip(&s.section.points) {
+                    for x in point {
+                        index.push(p.index);
+                        parameter.push(v);
+                        turn.push(*t);
+                        value.push(*x);
+                    }
+                }
+                let (name, period) = match &s.period.verdict {
+                    PeriodVerdict::Period { k, .. } => ("period", *k),
+                    PeriodVerdict::NoPeriod { .. } => ("no_period", 0),
+                    PeriodVerdict::NotSettled { .. } => ("not_settled", 0),
+                };
+                (name, period, String::new())
             }
-        }
-        let (name, period) = match &s.period.verdict {
-            PeriodVerdict::Period { k, .. } => ("period", *k),
-            PeriodVerdict::NoPeriod { .. } => ("no_period", 0),
-            PeriodVerdict::NotSettled { .. } => ("not_settled", 0),
+            // The command line's NaN rows: one per recorded turn.
+            Err(e) => {
+                for t in plan.transient..plan.turns {
+                    index.push(p.index);
+                    parameter.push(v);
+                    turn.push(t);
+                    value.push(f64::NAN);
+                }
+                ("failed", 0, errors::message(e))
+            }
         };
         point_index.push(p.index);
         point_parameter.push(v);
         verdict.push(name);
         k.push(period);
+        message.push(text);
     }
     let fields = PyDict::new(py);
     fields.set_item("parameter_name", &a.param)?;
@@ -399,6 +430,7 @@ fn build<'py>(
     fields.set_item("point_parameter", floats(py, point_parameter))?;
     fields.set_item("verdict", verdict)?;
     fields.set_item("k", ints(py, &k))?;
+    fields.set_item("message", message)?;
     fields.set_item(
         "provenance",
         provenance(py, plan.provenance.clone(), &plan.settings)?,

@@ -233,11 +233,12 @@ def test_bifurcation_is_the_cli_s(cli, tmp_path, threads):
     assert_same(csv["coupler.phi"], b.value, "value")
     assert_same_provenance(lines, b, "bifurcation")
     vlines, vnames, verdicts = read(out.with_suffix(".verdicts.csv"))
-    assert vnames == ["index", "joints.B.clearance", "verdict", "k"]
+    assert vnames == ["index", "joints.B.clearance", "verdict", "k", "message"]
     assert_same(verdicts["index"], b.point_index, "point index")
     assert_same(verdicts["joints.B.clearance"], b.point_parameter, "point parameter")
     assert verdicts["verdict"] == b.verdict
     assert_same(verdicts["k"], b.k, "k")
+    assert verdicts["message"] == b.message == [""] * 4
     assert without_version(vlines) == without_version(lines)
 
 

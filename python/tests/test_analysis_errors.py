@@ -10,12 +10,14 @@ Python says ``phase``, ``t_end`` and ``param PATH``. The exit code gives the cla
 
 import re
 
+import numpy as np
 import pytest
 
 import linkdyn
 
 MODEL = "models/farahan2016.toml"
 POINT = re.compile(r"^point \d+ \([^)]*\): ")
+PARAM = re.compile(r"^param [^ :]+: ")
 
 
 def flag(name: str) -> str:
@@ -27,8 +29,9 @@ def cli_spelling(e: linkdyn.LinkdynError) -> str:
     text = str(e)
     m = POINT.match(text)
     prefix, text = (m.group(0), text[m.end():]) if m else ("", text)
-    if text.startswith("param "):
-        text = "--" + text
+    m = PARAM.match(text)
+    if m:
+        prefix, text = prefix + "--" + m.group(0), text[m.end():]
     if isinstance(e, linkdyn.SettingsError):
         reason = text[len(e.option) + 2:]
         parts = reason.split("`")
@@ -113,15 +116,18 @@ CASES = [
      bif(observe="coupler.ph"), linkdyn.SettingsError, 2),
     ("bifurcation-threads", ["bifurcation", MODEL, *sweep(["--threads", "0"])],
      bif(threads=0), linkdyn.SettingsError, 2),
-    # A point whose value the model refuses (a clearance beyond the journal radius).
+    # A last point whose value the model refuses (a clearance beyond the journal radius): both
+    # ends of the grid are checked before any point runs.
     ("bifurcation-point-model", ["bifurcation", MODEL, *sweep(["--to", "0.02"])],
      bif(to=0.02), linkdyn.ModelError, 2),
-    # A point whose driver stops: a settings error inside a point.
+    # A last point whose driver stops: a section needs a turning driver.
     ("bifurcation-point-settings", ["bifurcation", MODEL, *sweep([
         "--param", "drivers.motor.speed_rpm", "--from", "250", "--to", "0"])],
      bif(param="drivers.motor.speed_rpm", from_=250.0, to=0.0), linkdyn.SettingsError, 2),
-    ("bifurcation-point-solver", ["bifurcation", MODEL, *sweep(["--max-steps", "100"])],
-     bif(max_steps=100), linkdyn.SolverError, 3),
+    ("bifurcation-phase", ["bifurcation", MODEL, *sweep(["--phase", "7"])],
+     bif(phase=7.0), linkdyn.SettingsError, 2),
+    ("bifurcation-steps", ["bifurcation", MODEL, *sweep(["--steps", "1000000000"])],
+     bif(steps=1000000000), linkdyn.AnalysisError, 2),
 ]
 
 
@@ -148,14 +154,46 @@ def test_solver_error_of_an_analysis_has_the_time():
     assert abs(e.time - printed) <= 5e-10, (e.time, printed)
 
 
-def test_failed_sweep_point_names_its_index_and_value():
+def test_a_grid_end_the_model_refuses_is_bad_input():
     with pytest.raises(linkdyn.ModelError) as info:
         bif(to=0.02)()
     e = info.value
-    assert (e.point, e.parameter) == (1, 0.02)
-    assert str(e).startswith("point 1 (joints.B.clearance = 0.02): models/farahan2016.toml:64:13:")
+    assert str(e).startswith("param joints.B.clearance: models/farahan2016.toml:64:13:")
     # The model error keeps its place in the file.
     assert (e.file, e.line, e.column, e.field) == (MODEL, 64, 13, "joints.B.clearance")
+
+
+# The crank speed over −3500, 0, 3500 rpm: the middle point's driver does not turn, so its
+# end time of 6 turns does not exist and it fails; the ends run.
+SPEED_SWEEP = ["--formulation", "reduced", "--param", "drivers.motor.speed_rpm", "--from",
+               "-3500", "--to", "3500", "--steps", "2", "--revs", "6", "--transient", "3",
+               "--observe", "coupler.phi", "--threads", "2"]
+STOPPED = 'revs: driver "motor" has zero speed: give `t_end` instead'
+
+
+def test_a_failed_sweep_point_is_nan_with_its_message_as_on_the_command_line(cli, tmp_path):
+    out = tmp_path / "b.csv"
+    code, _, err = cli("bifurcation", MODEL, *SPEED_SWEEP, "--out", str(out))
+    assert code == 5, err
+    with pytest.warns(RuntimeWarning) as caught:
+        b = linkdyn.load(MODEL).bifurcation(
+            "drivers.motor.speed_rpm", "coupler.phi", from_=-3500.0, to=3500.0, steps=2,
+            revs=6, transient=3, formulation="reduced", threads=2, progress=False)
+    assert [str(w.message) for w in caught] == [
+        "2 of 3 points; point 1 (drivers.motor.speed_rpm = 0) failed: " + STOPPED
+        + " (their rows are NaN, their verdict \"failed\", the messages in `message`)"]
+    assert b.verdict == ["period", "failed", "period"]
+    assert b.message == ["", STOPPED, ""]
+    assert b.failures == {1: STOPPED}
+    values = b.value.reshape(3, -1)
+    assert np.isnan(values[1]).all() and np.isfinite(values[[0, 2]]).all(), values
+    # The command line's files hold the same: NaN rows, the verdict and the message (spelled
+    # with the flag), and the same numbers for the points that ran.
+    rows = [l.split(",") for l in out.read_text().splitlines()[1:] if not l.startswith("#")]
+    assert np.array_equal(np.array([float(r[3]) for r in rows]), b.value, equal_nan=True)
+    verdicts = [l for l in out.with_suffix(".verdicts.csv").read_text().splitlines()[1:]
+                if not l.startswith("#")]
+    assert verdicts[1] == '1,0,failed,0,"--revs: driver ""motor"" has zero speed: give --t-end instead"'
 
 
 @pytest.mark.parametrize(

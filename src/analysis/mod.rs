@@ -34,4 +34,6 @@ pub use period::{PeriodAnalysis, PeriodOptions, PeriodVerdict, period_verdict};
 pub use phase::{PhasePortrait, RateSource, phase_portrait};
 pub use poincare::{PoincareSection, SectionOptions, section_outputs, section_states};
 pub use spectrum::{Peak, Spectrum, SpectrumOptions, Window, amplitude_spectrum};
-pub use sweep::{ParameterGrid, Shard, SweepPoint, merge, remaining, run_points, run_points_until};
+pub use sweep::{
+    MAX_POINTS, ParameterGrid, Shard, SweepPoint, merge, remaining, run_points, run_points_until,
+};

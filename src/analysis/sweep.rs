@@ -40,6 +40,12 @@ use super::error::AnalysisError;
 /// documentation).
 const PARAMETER_TOL: f64 = 1e-9;
 
+/// Most points a grid may have. Each point is a whole integration (about a second for the
+/// Fig. 6a settings of Farahan et al. 2016), so a million points are already weeks of CPU
+/// time; a larger count is a typo, and `steps + 1` must not wrap or size an allocation of
+/// gigabytes before the first point runs.
+pub const MAX_POINTS: usize = 1_000_000;
+
 /// The parameter values of a sweep: `steps` intervals from `from` to `to`, ends included.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ParameterGrid {
@@ -50,8 +56,18 @@ pub struct ParameterGrid {
 
 impl ParameterGrid {
     /// The grid p_i = from + (to − from)·i/steps, i = 0..=steps. `steps = 0` is one point and
-    /// needs from = to. Errors: non-finite ends, or steps = 0 with from ≠ to.
+    /// needs from = to. Errors: non-finite ends, steps = 0 with from ≠ to, or more than
+    /// [`MAX_POINTS`] points.
     pub fn new(from: f64, to: f64, steps: usize) -> Result<Self, AnalysisError> {
+        if steps >= MAX_POINTS {
+            return Err(AnalysisError::invalid(
+                "parameter grid",
+                format!(
+                    "expected at most {} steps ({MAX_POINTS} points, each a whole integration), got {steps}",
+                    MAX_POINTS - 1
+                ),
+            ));
+        }
         if !(from.is_finite() && to.is_finite()) {
             return Err(AnalysisError::invalid(
                 "parameter grid",
@@ -408,6 +424,24 @@ mod tests {
             e.as_deref(),
             Some("invalid parameter grid: 0 steps give one point, but from = 1 and to = 2 differ")
         );
+        // The largest grid, and one more point: refused before anything is sized by it.
+        assert_eq!(
+            ParameterGrid::new(0.0, 1.0, MAX_POINTS - 1)
+                .ok()
+                .map(|g| g.len()),
+            Some(MAX_POINTS)
+        );
+        for steps in [MAX_POINTS, usize::MAX] {
+            let e = ParameterGrid::new(0.0, 1.0, steps)
+                .err()
+                .map(|e| e.to_string());
+            assert_eq!(
+                e,
+                Some(format!(
+                    "invalid parameter grid: expected at most 999999 steps (1000000 points, each a whole integration), got {steps}"
+                ))
+            );
+        }
     }
 
     #[test]

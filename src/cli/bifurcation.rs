@@ -5,11 +5,22 @@
 //! integrates R driver turns and records the observed column once per turn after M transient
 //! turns (its Poincaré points), with the point's period verdict. Points run in parallel; each
 //! finished point is appended to `F.csv` (`index,<param>,turn,<col>`, R − M rows) and then to
-//! `F.verdicts.csv` (`index,<param>,verdict,k`), both flushed to disk. The verdict row marks a
-//! point as finished: `--resume` keeps the points that have their verdict and all their rows,
-//! drops any partial rows, and runs only the rest. When every point of the shard is done, both
-//! files are rewritten in index order, so the result does not depend on the threads, and shard
-//! files merged with `linkdyn merge` equal an unsharded run byte for byte.
+//! `F.verdicts.csv` (`index,<param>,verdict,k,message`), both flushed to disk. The verdict row
+//! marks a point as finished: `--resume` keeps the points that have their verdict and all
+//! their rows, drops any partial rows, and runs only the rest. When every point of the shard
+//! is done, both files are rewritten in index order, so the result does not depend on the
+//! threads, and shard files merged with `linkdyn merge` equal an unsharded run byte for byte.
+//!
+//! **Checks first.** Every option, both ends of the grid (each loaded and built as a point
+//! would be) and the output paths are checked before any file is touched, and an earlier
+//! result is replaced only when the first point of this run is finished: bad input leaves it
+//! as it was.
+//!
+//! **Failed points.** A point whose model, simulation or integration fails does not end the
+//! sweep: its R − M rows hold `NaN`, its verdict is `failed` with the message (one line,
+//! quoted as RFC 4180 says), and the other points run. The command then exits with
+//! [`EXIT_FAILED_POINTS`] and a summary (`199 of 200 points; point 198 (…) failed: …`);
+//! `--resume` keeps the finished points and runs only the failed ones again.
 //!
 //! **Ctrl-C** (SIGINT, SIGTERM, SIGHUP): no new point starts, the points in flight finish and
 //! are appended, and the command exits with code 130 saying how many points are on disk and
@@ -18,13 +29,13 @@
 //! of completion; `--resume` puts them in index order.
 
 use super::poincare::{ModelArgs, bad, provenance_lines};
-use super::{EXIT_INTERRUPTED, EXIT_OUTPUT, Failure, interrupt};
+use super::{EXIT_FAILED_POINTS, EXIT_INTERRUPTED, EXIT_OUTPUT, Failure, csv_field, interrupt};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use linkdyn::analysis::{self, ParameterGrid, PeriodVerdict, Shard, SweepPoint};
 use linkdyn::output::{AtomicFile, OutputLock, check_output_file, format_number};
 use linkdyn::simulation::analyses::{ModelSection, SectionSpec, Sweep};
-use linkdyn::simulation::{EndTime, Simulation, SimulationOptions};
+use linkdyn::simulation::{EndTime, Simulation, SimulationOptions, escape_line};
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs::{File, OpenOptions};
 use std::io::{IsTerminal, Write};
@@ -157,7 +168,14 @@ fn read_matching(path: &Path, head: &str) -> Result<Option<String>, Failure> {
     Ok(Some(text))
 }
 
-/// Runs `bifurcation`.
+/// The verdict of a point whose model, simulation or integration failed (its `k` is 0, its
+/// `message` the error, its rows `NaN`).
+const FAILED: &str = "failed";
+/// Failed points named one by one in the closing message; the rest are counted.
+const FAILURES_LISTED: usize = 5;
+
+/// Runs `bifurcation`. Every check comes before any file is touched: an earlier result is
+/// replaced only once the first point of this run is finished.
 pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
     let turns = args.model.whole_turns(150)?;
     if turns <= args.transient {
@@ -170,6 +188,17 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         ));
     }
     let grid = ParameterGrid::new(args.from, args.to, args.steps)?;
+    let pool = {
+        let builder = rayon::ThreadPoolBuilder::new();
+        let builder = match args.threads {
+            Some(0) => return Err(bad("threads", "expected at least 1 thread, got 0")),
+            Some(k) => builder.num_threads(k),
+            None => builder,
+        };
+        builder
+            .build()
+            .map_err(|e| bad("threads", format!("cannot start the threads: {e}")))?
+    };
     // The base model and settings, checked once before any point (bad input exits 2 now).
     let base_model = super::load_model(
         &args.model.model,
@@ -196,18 +225,14 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
             observe: vec![args.observe.clone()],
         },
     };
-    let first = sweep
-        .simulation(args.from)
-        .map_err(|e| prefixed(e, &format!("--param {}", args.param)))?;
-    if !first.column_names().iter().any(|c| c == &args.observe) {
-        return Err(bad(
-            "observe",
-            format!(
-                "no output column \"{}\"; the columns are {}",
-                args.observe,
-                first.column_names().join(", ")
-            ),
-        ));
+    // Both ends of the grid load and build (a bad --from or --to is bad input, not a failed
+    // point), and the section's settings hold on the first.
+    let ends = [Some(args.from), (grid.len() > 1).then_some(args.to)];
+    for value in ends.into_iter().flatten() {
+        let sim = sweep
+            .simulation(value)
+            .map_err(|e| prefixed(e, &format!("--param {}", args.param)))?;
+        sweep.section.check(&sim)?;
     }
 
     let head = provenance_lines(
@@ -226,16 +251,18 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
     // Header row first, then the provenance (as every result CSV); the whole head is a prefix
     // that `--resume` matches and skips.
     let data_head = format!("index,{},turn,{}\n{head}", args.param, args.observe);
-    let verdict_head = format!("index,{},verdict,k\n{head}", args.param);
+    let verdict_head = format!("index,{},verdict,k,message\n{head}", args.param);
     let out = &args.out;
     let verdicts = verdicts_path(out);
     check_output_file(out, Some(&args.model.model))?;
     check_output_file(&verdicts, Some(&args.model.model))?;
     let _lock = OutputLock::acquire(out)?;
 
-    // What is finished: a verdict row and all R − M rows.
+    // What is finished: a verdict other than `failed` and all R − M rows. Failed points and
+    // partial rows are dropped, so that they run again.
     let per_point = turns - args.transient;
     let mut finished = BTreeSet::new();
+    let mut kept = (data_head.clone(), verdict_head.clone());
     if args.resume {
         let data = read_matching(out, &data_head)?;
         let verdict = read_matching(&verdicts, &verdict_head)?;
@@ -244,23 +271,24 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
             let marks = rows_by_index(verdict, verdict_head.len());
             finished = marks
                 .iter()
-                .filter(|(i, m)| m.len() == 1 && rows.get(i).map_or(0, Vec::len) == per_point)
+                .filter(|(i, m)| {
+                    m.len() == 1
+                        && !m.iter().any(|line| is_failed(line))
+                        && rows.get(i).map_or(0, Vec::len) == per_point
+                })
                 .map(|(i, _)| *i)
                 .collect();
-            rewrite(out, &data_head, &rows, &finished)?;
-            rewrite(&verdicts, &verdict_head, &marks, &finished)?;
+            kept = (
+                joined(&data_head, &rows, &finished),
+                joined(&verdict_head, &marks, &finished),
+            );
         }
-    }
-    if finished.is_empty() {
-        let empty = BTreeMap::new();
-        rewrite(out, &data_head, &empty, &finished)?;
-        rewrite(&verdicts, &verdict_head, &empty, &finished)?;
     }
     let done: Vec<usize> = finished.iter().copied().collect();
     let todo = analysis::remaining(&grid, args.shard.as_ref(), &done)?;
+    let total = done.len() + todo.len();
     eprintln!(
-        "{} points{}: {} finished, {} to run ({} turns each, {} recorded)",
-        args.shard.map_or(grid.len(), |s| s.select(&grid).len()),
+        "{total} points{}: {} finished, {} to run ({} turns each, {} recorded)",
         args.shard
             .map(|s| format!(" in shard {s}"))
             .unwrap_or_default(),
@@ -270,17 +298,11 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         per_point
     );
 
-    let mut appender = Appender::open(out, &verdicts, &args.param, todo.len())?;
-    let pool = {
-        let builder = rayon::ThreadPoolBuilder::new();
-        let builder = match args.threads {
-            Some(0) => return Err(bad("threads", "expected at least 1 thread, got 0")),
-            Some(k) => builder.num_threads(k),
-            None => builder,
-        };
-        builder
-            .build()
-            .map_err(|e| bad("threads", format!("cannot start the threads: {e}")))?
+    let mut appender = Appender {
+        data: Pending::new(out, kept.0),
+        verdicts: Pending::new(&verdicts, kept.1),
+        turns: args.transient..turns,
+        bar: progress_bar(todo.len()),
     };
     interrupt::install();
     // A signal only raises the flag: points stop starting, those in flight are written.
@@ -298,7 +320,6 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
     let results = results?;
     if results.len() < todo.len() {
         // Only a signal leaves points out of a successful return.
-        let total = done.len() + todo.len();
         let kept = done.len() + results.len();
         return Err(Failure {
             code: EXIT_INTERRUPTED,
@@ -311,27 +332,29 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         });
     }
 
-    // Every point of the shard is done: index order, whatever the threads did.
-    let all: BTreeSet<usize> = (0..grid.len()).collect();
-    let data = std::fs::read_to_string(out).map_err(|e| output_failure(out, &e))?;
-    rewrite(
-        out,
-        &data_head,
-        &rows_by_index(&data, data_head.len()),
-        &all,
-    )?;
-    let verdict = std::fs::read_to_string(&verdicts).map_err(|e| output_failure(&verdicts, &e))?;
-    rewrite(
-        &verdicts,
-        &verdict_head,
-        &rows_by_index(&verdict, verdict_head.len()),
-        &all,
-    )?;
+    // Every point of the shard has its verdict: index order, whatever the threads did. (With
+    // nothing to run, the kept points are written now.)
+    appender.data.open()?;
+    appender.verdicts.open()?;
+    let mut all: BTreeSet<usize> = finished;
+    all.extend(results.iter().map(|p| p.index));
+    for (path, head) in [(out, &data_head), (&verdicts, &verdict_head)] {
+        let text = std::fs::read_to_string(path).map_err(|e| output_failure(path, &e))?;
+        rewrite(path, head, &rows_by_index(&text, head.len()), &all)?;
+    }
 
     let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+    let mut failures = Vec::new();
     for p in &results {
-        if let Ok(s) = &p.result {
-            *counts.entry(s.period.verdict.to_string()).or_default() += 1;
+        match &p.result {
+            Ok(s) => *counts.entry(s.period.verdict.to_string()).or_default() += 1,
+            Err(e) => failures.push(format!(
+                "point {} ({} = {}) failed: {}",
+                p.index,
+                args.param,
+                format_number(p.parameter),
+                e.message
+            )),
         }
     }
     let summary: Vec<String> = counts.iter().map(|(v, n)| format!("{v}: {n}")).collect();
@@ -346,7 +369,51 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
             summary.join(", ")
         }
     );
-    Ok(())
+    if failures.is_empty() {
+        return Ok(());
+    }
+    let n_failed = failures.len();
+    let more = n_failed.saturating_sub(FAILURES_LISTED);
+    failures.truncate(FAILURES_LISTED);
+    if more > 0 {
+        failures.push(format!("{more} more failed"));
+    }
+    Err(Failure {
+        code: EXIT_FAILED_POINTS,
+        message: format!(
+            "{} of {total} points; {}. The failed {} recorded as \"{FAILED}\" with {} in {}; run the same command with --resume to retry only {}",
+            total - n_failed,
+            failures.join("; "),
+            if n_failed == 1 {
+                "point is"
+            } else {
+                "points are"
+            },
+            if n_failed == 1 {
+                "its message"
+            } else {
+                "their messages"
+            },
+            verdicts.display(),
+            if n_failed == 1 { "it" } else { "them" },
+        ),
+    })
+}
+
+/// Whether a verdict row is that of a failed point.
+fn is_failed(line: &str) -> bool {
+    line.split(',').nth(2) == Some(FAILED)
+}
+
+/// `head` and the rows of the indices in `keep`, in index order.
+fn joined(head: &str, rows: &BTreeMap<usize, Vec<&str>>, keep: &BTreeSet<usize>) -> String {
+    let mut text = head.to_string();
+    for (i, lines) in rows {
+        if keep.contains(i) {
+            text.extend(lines.iter().copied());
+        }
+    }
+    text
 }
 
 /// A failure of a library call, with `what` in front of its message.
@@ -363,69 +430,98 @@ fn output_failure(path: &Path, e: &std::io::Error) -> Failure {
     }
 }
 
+/// A progress bar of `n` points on a terminal; none otherwise.
+fn progress_bar(n: usize) -> Option<ProgressBar> {
+    std::io::stderr().is_terminal().then(|| {
+        let bar = ProgressBar::with_draw_target(Some(n as u64), ProgressDrawTarget::stderr());
+        let style = ProgressStyle::with_template("{wide_bar} {pos}/{len} points, {eta} left")
+            .unwrap_or_else(|_| ProgressStyle::default_bar());
+        bar.set_style(style);
+        bar
+    })
+}
+
+/// A result file that is written only when the first point is appended: until then an
+/// earlier file of the same name stays as it was. Opening replaces it (atomically) with the
+/// head and the points kept by `--resume`, then appends.
+struct Pending<'a> {
+    path: &'a Path,
+    initial: String,
+    file: Option<File>,
+}
+
+impl<'a> Pending<'a> {
+    fn new(path: &'a Path, initial: String) -> Self {
+        Pending {
+            path,
+            initial,
+            file: None,
+        }
+    }
+
+    /// The file, written with its initial text on first use.
+    fn open(&mut self) -> Result<&mut File, Failure> {
+        if self.file.is_none() {
+            let mut whole = AtomicFile::create(self.path)?;
+            whole.write_str(&self.initial)?;
+            whole.commit()?;
+            let file = OpenOptions::new()
+                .append(true)
+                .open(self.path)
+                .map_err(|e| output_failure(self.path, &e))?;
+            self.file = Some(file);
+        }
+        self.file
+            .as_mut()
+            .ok_or_else(|| output_failure(self.path, &std::io::Error::other("not open")))
+    }
+
+    /// Appends `text` and flushes it to disk.
+    fn append(&mut self, text: &str) -> Result<(), Failure> {
+        let path = self.path;
+        self.open()?
+            .write_all(text.as_bytes())
+            .and_then(|()| self.file.as_mut().map_or(Ok(()), |f| f.sync_data()))
+            .map_err(|e| output_failure(path, &e))
+    }
+}
+
 /// Appends each finished point to the two files (data rows first, then the verdict that marks
-/// the point finished), flushed to disk, and draws progress on a terminal.
+/// the point finished), flushed to disk, and draws progress on a terminal. A failed point gets
+/// `NaN` rows and the verdict `failed` with its message.
 struct Appender<'a> {
-    data: (File, &'a Path),
-    verdicts: (File, &'a Path),
-    param: &'a str,
+    data: Pending<'a>,
+    verdicts: Pending<'a>,
+    /// The recorded turns M..R.
+    turns: std::ops::Range<usize>,
     bar: Option<ProgressBar>,
 }
 
-impl<'a> Appender<'a> {
-    fn open(out: &'a Path, verdicts: &'a Path, param: &'a str, n: usize) -> Result<Self, Failure> {
-        let open = |p: &Path| {
-            OpenOptions::new()
-                .append(true)
-                .open(p)
-                .map_err(|e| output_failure(p, &e))
-        };
-        let bar = std::io::stderr().is_terminal().then(|| {
-            let bar = ProgressBar::with_draw_target(Some(n as u64), ProgressDrawTarget::stderr());
-            let style = ProgressStyle::with_template("{wide_bar} {pos}/{len} points, {eta} left")
-                .unwrap_or_else(|_| ProgressStyle::default_bar());
-            bar.set_style(style);
-            bar
-        });
-        Ok(Appender {
-            data: (open(out)?, out),
-            verdicts: (open(verdicts)?, verdicts),
-            param,
-            bar,
-        })
-    }
-
+impl Appender<'_> {
     fn append(&mut self, p: &SweepPoint<Result<ModelSection, Failure>>) -> Result<(), Failure> {
-        let s = match &p.result {
-            Ok(s) => s,
-            Err(e) => {
-                return Err(Failure {
-                    code: e.code,
-                    message: format!(
-                        "point {} ({} = {}): {}",
-                        p.index,
-                        self.param,
-                        format_number(p.parameter),
-                        e.message
-                    ),
-                });
-            }
-        };
         let index = p.index.to_string();
         let value = format_number(p.parameter);
         let mut rows = String::new();
-        for (turn, point) in s.turns.iter().zip(&s.section.points) {
-            for v in point {
-                rows.push_str(&format!("{index},{value},{turn},{}\n", format_number(*v)));
+        let mark = match &p.result {
+            Ok(s) => {
+                for (turn, point) in s.turns.iter().zip(&s.section.points) {
+                    for v in point {
+                        rows.push_str(&format!("{index},{value},{turn},{}\n", format_number(*v)));
+                    }
+                }
+                let (name, k) = verdict_fields(&s.period.verdict);
+                format!("{index},{value},{name},{k},\n")
             }
-        }
-        let (name, k) = verdict_fields(&s.period.verdict);
-        let mark = format!("{index},{value},{name},{k}\n");
-        for ((file, path), text) in [(&mut self.data, rows), (&mut self.verdicts, mark)] {
-            file.write_all(text.as_bytes())
-                .and_then(|()| file.sync_data())
-                .map_err(|e| output_failure(path, &e))?;
-        }
+            Err(e) => {
+                for turn in self.turns.clone() {
+                    rows.push_str(&format!("{index},{value},{turn},NaN\n"));
+                }
+                let message = csv_field(&escape_line(&e.message));
+                format!("{index},{value},{FAILED},0,{message}\n")
+            }
+        };
+        self.data.append(&rows)?;
+        self.verdicts.append(&mark)?;
         if let Some(bar) = &self.bar {
             bar.inc(1);
         }

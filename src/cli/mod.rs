@@ -2,7 +2,8 @@
 //!
 //! Exit codes: 0 success; 2 bad input (model file, `--set`, options, `--out`, a linkage that
 //! cannot be assembled or does not fit the formulation); 3 the solver failed (the message says
-//! when and why); 4 a result file could not be written; 130 interrupted (SIGINT, SIGTERM or
+//! when and why); 4 a result file could not be written; 5 a sweep finished with failed points
+//! (recorded in its files; `--resume` retries them); 130 interrupted (SIGINT, SIGTERM or
 //! SIGHUP during `run`: no result file is left behind).
 
 mod animate;
@@ -109,12 +110,24 @@ pub fn read_result(path: &Path) -> Result<linkdyn::plot::Table, linkdyn::plot::P
     linkdyn::plot::Table::read(path)
 }
 
+/// One CSV field, quoted as RFC 4180 says where needed.
+pub(crate) fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
 /// Exit code for bad input.
 pub const EXIT_BAD_INPUT: u8 = 2;
 /// Exit code for a solver failure.
 pub const EXIT_SOLVER: u8 = 3;
 /// Exit code for a result file that could not be written.
 pub const EXIT_OUTPUT: u8 = 4;
+/// Exit code of a sweep that finished with failed points (each recorded in its files with the
+/// message; `--resume` retries them).
+pub const EXIT_FAILED_POINTS: u8 = 5;
 /// Exit code after SIGINT/SIGTERM (128 + SIGINT, the shell's convention).
 pub const EXIT_INTERRUPTED: u8 = 130;
 

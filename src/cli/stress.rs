@@ -2,7 +2,7 @@
 //! [`linkdyn::analysis::stress`] — extreme cases × formulations × methods × tolerances, a
 //! verdict each — printed as aligned columns and optionally written as a CSV with provenance.
 
-use super::Failure;
+use super::{Failure, csv_field};
 use clap::Args;
 use linkdyn::Error;
 use linkdyn::analysis::stress::{StressCell, StressOptions, StressReport, run_stress};
@@ -80,15 +80,6 @@ fn fields(c: &StressCell, exact: bool) -> [String; 12] {
         opt(c.max_angle_difference, num),
         note,
     ]
-}
-
-/// One CSV field, quoted as RFC 4180 says where needed.
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
 }
 
 fn print_row(widths: &[usize], row: &[String]) {

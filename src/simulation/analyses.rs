@@ -124,38 +124,52 @@ pub struct ModelSection {
     pub settled_at_turn: Option<usize>,
 }
 
+impl SectionSpec {
+    /// The checks of [`poincare`] that need no integration, on `sim`: a single turning driver,
+    /// the phase, the turns and the observed columns. Returns the driver speed |ω| (rad/s).
+    /// A sweep runs them before any point, so that bad input is refused before any work.
+    ///
+    /// Errors: as [`poincare`]'s [`Error::Settings`].
+    pub fn check(&self, sim: &Simulation) -> Result<f64> {
+        let spec = self;
+        let omega = driver_speed(&sim.model, "revs")?;
+        let tau = std::f64::consts::TAU;
+        if !(spec.phase.is_finite() && (0.0..tau).contains(&spec.phase)) {
+            return Err(Error::settings(
+                "phase",
+                format!("expected a phase in [0, 2π) rad, got {}", spec.phase),
+            ));
+        }
+        if spec.turns <= spec.transient {
+            return Err(Error::settings(
+                "revs",
+                format!(
+                    "expected more turns than the {} transient turns, got {}",
+                    spec.transient, spec.turns
+                ),
+            ));
+        }
+        if let Some(c) = spec.observe.iter().find(|c| !sim.names.contains(c)) {
+            return Err(Error::settings(
+                "observe",
+                format!(
+                    "no output column \"{c}\"; the columns are {}",
+                    sim.names.join(", ")
+                ),
+            ));
+        }
+        Ok(omega)
+    }
+}
+
 /// Section of `sim`'s model once per driver turn (module docs) with its period verdict.
 ///
 /// Errors: [`Error::Settings`] for a model without a single turning driver (`revs`), a phase
 /// outside [0, 2π) (`phase`), or turns ≤ transient (`revs`); [`Error::Analysis`] for an unknown
 /// column or a failed integration.
 pub fn poincare(sim: &Simulation, spec: &SectionSpec) -> Result<ModelSection> {
-    let omega = driver_speed(&sim.model, "revs")?;
+    let omega = spec.check(sim)?;
     let tau = std::f64::consts::TAU;
-    if !(spec.phase.is_finite() && (0.0..tau).contains(&spec.phase)) {
-        return Err(Error::settings(
-            "phase",
-            format!("expected a phase in [0, 2π) rad, got {}", spec.phase),
-        ));
-    }
-    if spec.turns <= spec.transient {
-        return Err(Error::settings(
-            "revs",
-            format!(
-                "expected more turns than the {} transient turns, got {}",
-                spec.transient, spec.turns
-            ),
-        ));
-    }
-    if let Some(c) = spec.observe.iter().find(|c| !sim.names.contains(c)) {
-        return Err(Error::settings(
-            "observe",
-            format!(
-                "no output column \"{c}\"; the columns are {}",
-                sim.names.join(", ")
-            ),
-        ));
-    }
     let options = SectionOptions {
         period: tau / omega,
         phase_offset: spec.phase / omega,

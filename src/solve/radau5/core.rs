@@ -22,6 +22,13 @@ const FIXED_SCALE: f64 = 1e-13;
 /// remaining error is below 1e-15·(1 + |y_i|).
 const FIXED_NEWTON_TOL: f64 = 0.01;
 
+/// An attempt is cut at an event crossing only if the crossing lies at a fraction θ of the
+/// step in [`MIN_CUT`, `MAX_CUT`): near either end the other law holds on a sliver only, and
+/// near the start a cut would shrink the step to that sliver (see `Radau5Core::event_cut`).
+const MIN_CUT: f64 = 0.01;
+/// See [`MIN_CUT`].
+const MAX_CUT: f64 = 0.99;
+
 /// Why an attempt was rejected.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Rejection {
@@ -518,10 +525,15 @@ impl Radau5Core {
         }
         let theta = 1.0 + hi;
         // Past the crossing by 0.1 % of the way to it (the retry's own crossing moves by its
-        // error); a crossing in the last 1 % of the step is left as it is.
+        // error). A crossing in the last 1 % of the step is left as it is, and so is one in
+        // the first 1 %: the old law then holds only on a sliver at the start, where the
+        // polynomial is pinned to y_n, and the cut would be a step of θ·h — down to a few ulps
+        // of t when a step ends just short of a kink (farahan2016 reduced at 3500 rpm,
+        // c = 0.4955 mm: θ = 3e-6, a cut to 2.1e-14 s, after which the controller proposed
+        // 6.6e-15 s, below the driver's floor; docs/numerics.md, "Radau5 at events").
         let h_cut = h * theta * 1.001;
         let floor = 64.0 * f64::EPSILON * t.abs().max(h.abs());
-        (theta < 0.99 && h_cut.abs() > floor).then_some(h_cut)
+        ((MIN_CUT..MAX_CUT).contains(&theta) && h_cut.abs() > floor).then_some(h_cut)
     }
 
     /// Whether an event function changes sign between (t, y) and the attempt's end

@@ -51,7 +51,9 @@ pub struct Radau5Settings {
     /// With error control: an accepted attempt across which an event function
     /// ([`Formulation::events`](crate::formulation::Formulation::events)) changes sign is
     /// retried once, ending just past the crossing, so that the law that changes at the event
-    /// does not enter the polynomial the event state is read from (see `core.rs`).
+    /// does not enter the polynomial the event state is read from (see `core.rs`). A crossing
+    /// in the first or the last 1 % of the attempt is left uncut: the other law holds on a
+    /// sliver only, and a cut near the start would shrink the step to that sliver.
     pub cut_at_events: bool,
 }
 
