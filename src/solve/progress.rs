@@ -120,19 +120,24 @@ impl Progress {
         self.attempts += 1;
         let remaining = at.t_end - at.t;
         let budget = at.max_steps.saturating_sub(at.attempts) as f64;
-        let stall = |window: usize, oldest: f64| {
+        // Attempts that the last `window` attempts' pace needs to reach t_end.
+        let projected = |window: usize, oldest: f64| {
             let advance = at.t - oldest;
-            let projected = if advance > 0.0 {
+            if advance > 0.0 {
                 window as f64 * remaining / advance
             } else {
                 f64::INFINITY
-            };
+            }
+        };
+        // The error is built only when a rule fires (it names the implicit methods: a string).
+        let stall = |window: usize, oldest: f64| {
+            let advance = at.t - oldest;
             SolveError::NoProgress {
                 t: at.t,
                 h: advance / window as f64,
                 advance,
                 attempts: window as u64,
-                projected,
+                projected: projected(window, oldest),
                 budget,
                 stiff: at.stiff,
                 implicit: implicit_methods(),
@@ -145,18 +150,15 @@ impl Progress {
         }
         if self.attempts > WINDOW as u64
             && let Some(oldest) = short_ago
+            && projected(WINDOW, oldest) > STALL_FACTOR * budget
         {
-            let e = stall(WINDOW, oldest);
-            if matches!(e, SolveError::NoProgress { projected, .. } if projected > STALL_FACTOR * budget)
-            {
-                return Err(e);
-            }
+            return Err(stall(WINDOW, oldest));
         }
-        if self.attempts > n as u64 && self.attempts as f64 >= LATE_FRACTION * at.max_steps as f64 {
-            let e = stall(n, long_ago);
-            if matches!(e, SolveError::NoProgress { projected, .. } if projected > budget) {
-                return Err(e);
-            }
+        if self.attempts > n as u64
+            && self.attempts as f64 >= LATE_FRACTION * at.max_steps as f64
+            && projected(n, long_ago) > budget
+        {
+            return Err(stall(n, long_ago));
         }
         Ok(())
     }
