@@ -437,6 +437,86 @@ impl<F: Formulation> Formulation for Pair<F> {
         let (ya, yb) = y.split_at(self.n);
         self.a.max_step(t, ya).min(self.b.max_step(t, yb))
     }
+
+    // Every step hook is forwarded to both copies: each is integrated exactly as it would be
+    // alone (its bookkeeping states out of error control, the DAE's |Φ| check and projection
+    // near singular positions at every step end, its analytic Jacobian).
+
+    fn jacobian(
+        &self,
+        t: f64,
+        y: &[f64],
+        f_y: &[f64],
+        out: &mut [f64],
+        work: &mut [f64],
+    ) -> Result<usize, FormulationError> {
+        // J = diag(J_a, J_b), row-major 2n × 2n: each block is computed into its own n × n
+        // buffer (the caller's scratch holds 4n values, enough for each copy's 2n but not for a
+        // block; a Jacobian is evaluated once per many steps) and copied into its rows.
+        let n = self.n;
+        let (ya, yb) = y.split_at(n);
+        let (fa, fb) = f_y.split_at(n);
+        let mut block = vec![0.0; n * n];
+        out.fill(0.0);
+        let mut calls = 0;
+        for (half, (f, yh, fh)) in [(&self.a, ya, fa), (&self.b, yb, fb)]
+            .into_iter()
+            .enumerate()
+        {
+            calls += f.jacobian(t, yh, fh, &mut block, work)?;
+            let offset = half * n;
+            for i in 0..n {
+                let row = (offset + i) * 2 * n + offset;
+                out[row..row + n].copy_from_slice(&block[i * n..(i + 1) * n]);
+            }
+        }
+        Ok(calls)
+    }
+
+    fn error_controlled(&self, controlled: &mut [bool]) {
+        let (ca, cb) = controlled.split_at_mut(self.n);
+        self.a.error_controlled(ca);
+        self.b.error_controlled(cb);
+    }
+
+    fn begin_step(&mut self, t: f64, y: &[f64]) {
+        let (ya, yb) = y.split_at(self.n);
+        self.a.begin_step(t, ya);
+        self.b.begin_step(t, yb);
+    }
+
+    fn residual_stages(&self, min_pivot_ratio: f64) {
+        self.a.residual_stages(min_pivot_ratio);
+        self.b.residual_stages(min_pivot_ratio);
+    }
+
+    fn accept_step(
+        &mut self,
+        t: f64,
+        y: &mut [f64],
+        rtol: f64,
+        atol: f64,
+    ) -> Result<EventResponse, FormulationError> {
+        let (ya, yb) = y.split_at_mut(self.n);
+        let a = self.a.accept_step(t, ya, rtol, atol)?;
+        let b = self.b.accept_step(t, yb, rtol, atol)?;
+        Ok(
+            if a == EventResponse::Restart || b == EventResponse::Restart {
+                EventResponse::Restart
+            } else {
+                EventResponse::Continue
+            },
+        )
+    }
+
+    fn diagnose(&self, t: f64, y: &[f64]) -> Option<String> {
+        let (ya, yb) = y.split_at(self.n);
+        match (self.a.diagnose(t, ya), self.b.diagnose(t, yb)) {
+            (Some(a), Some(b)) if a == b => Some(a),
+            (Some(a), Some(b)) => Some(format!("reference trajectory: {a}; perturbed one: {b}")),
+            (a, b) => a.or(b),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -496,6 +576,97 @@ mod tests {
             "{y:?}"
         );
         assert!(y[1] == -1.0 && y[3] == -1.0, "{y:?}");
+    }
+
+    /// A formulation with a bookkeeping state, an analytic Jacobian and a step-end projection
+    /// (x² + v² = 1 restored at every accepted step), to see that the pair forwards them.
+    #[derive(Clone, Default)]
+    struct Circle {
+        projections: usize,
+    }
+    impl Formulation for Circle {
+        fn n_states(&self) -> usize {
+            3
+        }
+        fn initial_state(&self) -> Vec<f64> {
+            vec![1.0, 0.0, 0.0]
+        }
+        fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
+            dy[0] = y[1];
+            dy[1] = -y[0];
+            dy[2] = 0.0;
+            Ok(())
+        }
+        fn jacobian(
+            &self,
+            _t: f64,
+            _y: &[f64],
+            _f_y: &[f64],
+            out: &mut [f64],
+            _work: &mut [f64],
+        ) -> Result<usize, FormulationError> {
+            out.fill(0.0);
+            out[1] = 1.0;
+            out[3] = -1.0;
+            Ok(0)
+        }
+        fn error_controlled(&self, controlled: &mut [bool]) {
+            controlled[2] = false;
+        }
+        fn accept_step(
+            &mut self,
+            _t: f64,
+            y: &mut [f64],
+            _rtol: f64,
+            _atol: f64,
+        ) -> Result<EventResponse, FormulationError> {
+            let r = y[0].hypot(y[1]);
+            y[0] /= r;
+            y[1] /= r;
+            self.projections += 1;
+            Ok(EventResponse::Restart)
+        }
+    }
+
+    #[test]
+    fn the_pair_forwards_every_step_hook_to_both_copies() {
+        let mut pair = Pair {
+            a: Circle::default(),
+            b: Circle::default(),
+            n: 3,
+        };
+        // Bookkeeping states of both copies out of error control.
+        let mut controlled = [true; 6];
+        pair.error_controlled(&mut controlled);
+        assert_eq!(controlled, [true, true, false, true, true, false]);
+        // The Jacobian is block diagonal with each copy's own (analytic: no RHS call).
+        let (y, f_y) = ([1.0, 0.0, 0.0, 0.5, 0.5, 0.0], [0.0; 6]);
+        // Scratch of 4n values, as the trait promises.
+        let (mut jac, mut work) = ([9.0; 36], [0.0; 12]);
+        let calls = pair.jacobian(0.0, &y, &f_y, &mut jac, &mut work);
+        assert_eq!(calls.ok(), Some(0));
+        let mut want = [0.0; 36];
+        for offset in [0, 3] {
+            want[offset * 6 + offset + 1] = 1.0;
+            want[(offset + 1) * 6 + offset] = -1.0;
+        }
+        assert_eq!(jac, want);
+        // Every accepted step end is projected in both halves.
+        let y0 = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        let mut y_end = [0.0; 6];
+        let mut stepper = Stepper::new(&mut pair, 0.0, &y0, 1.0, &SolverOptions::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        run_to_end(&mut stepper, 1.0, &mut y_end).unwrap_or_else(|e| panic!("{e}"));
+        let steps = stepper.stats().steps as usize;
+        drop(stepper);
+        assert!(steps > 0);
+        assert_eq!((pair.a.projections, pair.b.projections), (steps, steps));
+        for half in [&y_end[..3], &y_end[3..]] {
+            assert!(
+                (half[0].hypot(half[1]) - 1.0).abs() < 1e-15,
+                "on the circle: {half:?}"
+            );
+        }
     }
 
     #[test]
