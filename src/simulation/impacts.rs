@@ -514,6 +514,19 @@ mod tests {
         );
     }
 
+    /// The Hermite bound: the parabola θ(1 − θ) (max 1/4 at θ = 1/2), a cubic with its
+    /// maximum off-centre, and monotone data whose maximum is an end value.
+    #[test]
+    fn hermite_maximum_of_known_polynomials() {
+        assert!((hermite_max(0.0, 0.0, 1.0, -1.0) - 0.25).abs() < 1e-15);
+        // p(θ) = 2θ − θ²: p(1) = 1, p'(0) = 2, p'(1) = 0; its maximum is the end value.
+        assert!((hermite_max(0.0, 1.0, 2.0, 0.0) - 1.0).abs() < 1e-15);
+        // p(θ) = θ − θ³ on [0, 1]: max 2/(3√3) at θ = 1/√3; p(1) = 0, p'(0) = 1, p'(1) = −2.
+        let want = 2.0 / (3.0 * 3f64.sqrt());
+        assert!((hermite_max(0.0, 0.0, 1.0, -2.0) - want).abs() < 1e-15);
+        assert_eq!(hermite_max(1.0, 2.0, 1.0, 1.0), 2.0);
+    }
+
     #[test]
     fn golden_section_passes_the_first_error_on() {
         let r = maximise(|t| if t > 0.5 { Err(t) } else { Ok(t) }, 0.0, 1.0, 1e-6);
