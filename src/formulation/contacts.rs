@@ -13,8 +13,8 @@ use crate::contact::{
     CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, free_flight_max_step,
     impact_velocity, kinks,
 };
-use crate::mechanics::planar::{PointState, cross, perp, point_state};
-use crate::model::{Anchor, BodyId, Frame, JointId, JointKind, Model};
+use crate::mechanics::planar::{PointState, cross, perp, point_state, point_state_with};
+use crate::model::{Anchor, Frame, JointId, JointKind, Model};
 
 /// One clearance joint: its anchors and its contact model.
 #[derive(Debug, Clone)]
@@ -132,25 +132,11 @@ impl ContactSites {
     fn site_centres(&self, k: usize, q: &[f64], v: &[f64]) -> (PointState, PointState) {
         let site = &self.sites[k];
         let centre = |anchor: &Anchor| {
-            let mut sin_cos = [(0.0, 1.0)];
-            let frame = match anchor.frame {
-                Frame::Body(id) => {
-                    sin_cos[0] = q
-                        .get(3 * id.0 + 2)
-                        .map_or((f64::NAN, f64::NAN), |p| p.sin_cos());
-                    // The one body, renumbered 0 in its own one-body slices.
-                    let base = 3 * id.0;
-                    return point_state(
-                        Frame::Body(BodyId(0)),
-                        anchor.local,
-                        q.get(base..base + 3).unwrap_or(&[f64::NAN; 3]),
-                        v.get(base..base + 3).unwrap_or(&[f64::NAN; 3]),
-                        &sin_cos,
-                    );
-                }
-                Frame::Ground => Frame::Ground,
+            let body_sin_cos = match anchor.frame {
+                Frame::Body(id) => q[3 * id.0 + 2].sin_cos(),
+                Frame::Ground => (0.0, 1.0),
             };
-            point_state(frame, anchor.local, q, v, &sin_cos)
+            point_state_with(anchor.frame, anchor.local, q, v, body_sin_cos)
         };
         (centre(&site.bearing), centre(&site.journal))
     }
@@ -168,18 +154,9 @@ impl ContactSites {
         stored: f64,
     ) -> (SiteState, [f64; 2]) {
         let site = &self.sites[k];
-        let (bearing, journal) = self.site_centres(k, q, v);
-        let kinematics = site
-            .contact
-            .kinematics(&CentreMotion::from(bearing), &CentreMotion::from(journal));
-        let a_b = point_acceleration(site.bearing.frame, bearing, acc);
-        let a_j = point_acceleration(site.journal.frame, journal, acc);
-        let state = SiteState {
-            bearing,
-            journal,
-            kinematics,
-            forces: self.site_forces(k, &kinematics, stored),
-        };
+        let state = self.site_state_alone(k, q, v, stored);
+        let a_b = point_acceleration(site.bearing.frame, state.bearing, acc);
+        let a_j = point_acceleration(site.journal.frame, state.journal, acc);
         (state, [a_j[0] - a_b[0], a_j[1] - a_b[1]])
     }
 

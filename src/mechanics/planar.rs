@@ -57,6 +57,23 @@ pub fn point_state(
     v: &[f64],
     sin_cos: &[(f64, f64)],
 ) -> PointState {
+    let body_sin_cos = match frame {
+        Frame::Ground => (0.0, 1.0),
+        Frame::Body(id) => sin_cos[id.0],
+    };
+    point_state_with(frame, s, q, v, body_sin_cos)
+}
+
+/// [`point_state`] with the (sin φ, cos φ) of the frame's own body given (ignored on the
+/// ground): for a look at one point without the sines and cosines of every body.
+#[inline]
+pub fn point_state_with(
+    frame: Frame,
+    s: [f64; 2],
+    q: &[f64],
+    v: &[f64],
+    body_sin_cos: (f64, f64),
+) -> PointState {
     match frame {
         Frame::Ground => PointState {
             position: s,
@@ -64,7 +81,7 @@ pub fn point_state(
         },
         Frame::Body(id) => {
             let k = 3 * id.0;
-            let arm = rotate(sin_cos[id.0], s);
+            let arm = rotate(body_sin_cos, s);
             let omega = v[k + 2];
             let p = perp(arm);
             PointState {

@@ -2,6 +2,7 @@
 
 use super::error::SolveError;
 use super::integrator::Integrator;
+use super::rk::eval_rhs;
 use super::stats::SolverStats;
 use crate::formulation::Formulation;
 
@@ -53,13 +54,13 @@ impl<'s, F: Formulation + ?Sized> DenseStep<'s, F> {
             out.copy_from_slice(start);
             return Ok(false);
         }
-        self.stats.rhs_evals += 1;
-        self.f
-            .rhs(self.t_old, self.y_old, out)
-            .map_err(|source| SolveError::Formulation {
-                t: self.t_old,
-                source,
-            })?;
+        eval_rhs(
+            self.f,
+            self.t_old,
+            self.y_old,
+            out,
+            &mut self.stats.rhs_evals,
+        )?;
         Ok(true)
     }
 
@@ -83,10 +84,7 @@ impl<'s, F: Formulation + ?Sized> DenseStep<'s, F> {
             slope.copy_from_slice(end);
             return Ok(false);
         }
-        self.stats.rhs_evals += 1;
-        self.f
-            .rhs(t, y, slope)
-            .map_err(|source| SolveError::Formulation { t, source })?;
+        eval_rhs(self.f, t, y, slope, &mut self.stats.rhs_evals)?;
         Ok(true)
     }
 
