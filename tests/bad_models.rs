@@ -434,11 +434,20 @@ fn a_solver_failure_says_when_and_exits_with_code_3_leaving_no_files() {
         &out.display().to_string(),
     ]);
     assert_eq!(code, 3, "{stderr}");
-    // The step size collapses at the lock and the no-progress rule stops the run within 1000
-    // attempts.
-    assert!(stderr.starts_with("error: no progress at t = "), "{stderr}");
-    assert!(stderr.contains("toggle"), "{stderr}");
-    assert!(stderr.contains("at t = 0.0973"), "{stderr}");
+    // At the lock the driver cannot be followed: its row is violated beyond the bound, and the
+    // message names the rows that lost independence there.
+    assert!(
+        stderr.starts_with("error: the equations of motion could not be evaluated at t = 0.0973"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("constraint \"motor\" is violated by |Φ| = "),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("are nearly dependent: the linkage is at or near a singular position"),
+        "{stderr}"
+    );
     assert!(
         !out.exists() && !dir.join("lock.json").exists(),
         "no partial result files"

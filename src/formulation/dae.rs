@@ -21,11 +21,11 @@
 //! step over. So S is factored with every pivot regularised ([`Schur::factor_regularised`]),
 //!
 //! ```text
-//!     d_p  →  d_p + μ_p² / (d_p + μ_p),      μ_p = 1e-10 D_p
+//!     d_p  →  d_p + μ_p³ / (d_p + μ_p)²,      μ_p = 1e-8 D_p
 //! ```
 //!
 //! the exact factor of A = S + diag(Δ), and λ = A⁻¹ b. A healthy pivot moves by a relative
-//! (μ_p/d_p)² (below round-off), a collapsing one stays ≥ μ_p, which bounds the force along u
+//! (μ_p/d_p)³ (below round-off), a collapsing one stays ≥ 0.89 μ_p, which bounds the force along u
 //! by ~ε/√μ; smooth in q (no threshold), one division per pivot. Within ~√μ of the singular
 //! position the motion is free along u and inertia carries it through on the branch it is on;
 //! at a true lock (b not in the range of Φ_q: no motion can go on) the force grows like 1/μ and
@@ -119,6 +119,10 @@ struct Work {
     min_pivot_ratio: f64,
     /// The stages of the step were a residual form's ([`Formulation::residual_stages`]: IDA).
     residual_stages: bool,
+    /// (t, pivot ratio) of the stages since the start of the step that came near a singular
+    /// position (ratio below [`PROJECTION_RATIO`]): more samples of the approach than the step
+    /// ends for [`passages::Episode`].
+    stage_ratios: Vec<(f64, f64)>,
 }
 
 /// The absolute-coordinate DAE of a model.
@@ -237,6 +241,7 @@ impl Dae {
                 last_acc: vec![0.0; 3 * nb],
                 min_pivot_ratio: 1.0,
                 residual_stages: false,
+                stage_ratios: Vec::new(),
             }),
             constraints,
         };
@@ -348,7 +353,8 @@ impl Dae {
         rtol: f64,
         atol: f64,
     ) -> Result<f64, FormulationError> {
-        let work = &mut *self.work.borrow_mut();
+        let mut guard = self.work.borrow_mut();
+        let work = &mut *guard;
         self.constraints_at(t, y, work);
         let (limit_m, limit_rad) = self.violation_limits(rtol, atol);
         let mut max = 0.0_f64;
@@ -375,8 +381,14 @@ impl Dae {
             .sources()
             .get(k)
             .is_some_and(|&source| is_angle_row(source));
+        drop(guard);
+        // A violation near a lock or singular position says which rows lost independence.
+        let diagnosis = super::diagnosis::dae(self, t, y)
+            .map(|d| format!(". At t = {t:.9} s: {d}"))
+            .unwrap_or_default();
         Err(FormulationError::ConstraintViolation {
             t,
+            diagnosis,
             constraint: self.constraints.row_name(&self.model, k),
             value,
             limit: if angle { limit_rad } else { limit_m },
@@ -791,23 +803,50 @@ fn shift_at(
 }
 
 /// Relative regularisation of the pivots of the multiplier solve (module documentation): a
-/// pivot that collapses at a singular position stays at least 1e-10 of its row's diagonal.
-/// Why this size: it bounds the constraint force along the near-null direction by ~ε/√μ for a
-/// drift ε (with 1e-12 the parallelogram's passages stalled at rtol 1e-10: stages within
-/// 1e-6 of the flat position still saw forces the step size could not resolve); the motion is
-/// left unconstrained along that direction only within ~√μ = 1e-5 (relative) of the singular
-/// position, which costs the pendulum reference ~1e-9 rad per passage (1e-8 would cost 1e-7,
-/// measured on the chain of three); and a pivot d moves by a relative (μD/d)², below half an
-/// ulp for d ≳ 1e-2 D.
-pub const PIVOT_REGULARISATION: f64 = 1e-10;
+/// pivot that collapses at a singular position stays at least 1e-8 of its row's diagonal, and
+/// the motion is left free along the near-null direction within ~√μ = 1e-4 (relative) of the
+/// singular position, where inertia carries it through on its branch.
+///
+/// Why this size, measured on models/nfourbar_chain.toml (N parallelogram loops, 20 s, 20 flat
+/// positions; tip against the exact pendulum, DOP853; 2026-11-27):
+///
+/// | μ | 2 loops | 10 loops | 40 loops | 80 loops |
+/// |---|---|---|---|---|
+/// | 1e-10, rtol 1e-8 | 1.4e-6 m | 3.5e-5 m | stall at 0.72 s | — |
+/// | 1e-10, rtol 1e-10 | — | — | stall at 0.72 s | — |
+/// | 1e-8, rtol 1e-8 | 1.4e-6 m | 1.4e-6 m | 2.2e-6 m (0.30 s) | 5.6e-6 m |
+/// | 1e-8, rtol 1e-10 | 8.4e-8 m | 8.0e-8 m | 2.9e-7 m | 3.1e-6 m |
+/// | 1e-6, rtol 1e-10 | — | 1.7e-5 m | 1.2e-5 m | — |
+///
+/// (1e-6 was measured with the earlier shift μ²/(d + μ); the 1e-8 rows with the shift
+/// μ³/(d + μ)² of [`Schur::factor_regularised`], which leaves the regular models' arithmetic
+/// bit for bit as it was at 1e-10: the shift μ²/(d + μ) at 1e-8 changed farahan2016 by
+/// rounding, enough to move two rounding-sensitive tests.)
+///
+/// With 1e-10 the chains of 20 loops and more stalled ("no progress", steps of 1e-8 s) at the
+/// first flat position at every tolerance: the exact multipliers along the near-null
+/// directions of a chain grow like 1/s (unlike a single parallelogram's), the regularisation
+/// takes that force away within a region a few microseconds wide, and the step size had to
+/// resolve the jump. A wider region (1e-8) lets the steps stride over it; the force it leaves
+/// out is orthogonal to the branch's tangent, so what it costs is the error of the next step
+/// end's projection, not a drift of the motion; wider still (1e-6) that starts to show. Still
+/// small enough that a healthy pivot d moves by a relative (μD/d)² ≤ 1e-12 for d ≳ 1e-2 D (the
+/// regular models: farahan2016 6.1e-2 D, (μD/d)² = 3e-14). The earlier measurement that 1e-8
+/// "costs 1e-7 rad per passage" on the chain of three was made before the step ends near
+/// singular positions were projected.
+pub const PIVOT_REGULARISATION: f64 = 1e-8;
 
 /// An approach whose smallest pivot ratio ([`Schur::min_pivot_ratio`]: the squared sine of the
 /// angle between a constraint row and the span of the others), observed at a stage or fitted
 /// over the step ends (`dae/passages.rs`), falls below this passed a singular position for
-/// [`Dae::singular_passages`]: within ~1e-3 (relative) of one, where the ratio falls like s².
+/// [`Dae::singular_passages`]: within ~7e-3 (relative) of one, where the ratio falls like s².
 /// The shipped models stay well above it (smallest ratio over two turns or 3 s, measured
-/// 2026-11-25: 4.1e-4 quick_return, 7.6e-3 watt_sixbar, ≥ 2e-2 the others).
-pub const SINGULAR_PASSAGE_RATIO: f64 = 1e-6;
+/// 2026-11-25: 4.1e-4 quick_return, 7.6e-3 watt_sixbar, ≥ 2e-2 the others). Why not lower:
+/// where the steps stride over a passage (DOP853, models/nfourbar_chain.toml, 2 loops, rtol
+/// 1e-8) the parabola through the samples nearest the minimum (r ≈ 1e-4 there) has its vertex
+/// at up to 1.4e-5, not 0 (r is sin²-like, not exactly parabolic, that far out); with 1e-6,
+/// 6 of the 20 passages went uncounted (measured 2026-11-27).
+pub const SINGULAR_PASSAGE_RATIO: f64 = 5e-5;
 
 /// f −= Φ_qᵀ x over the active rows.
 fn subtract_constraint_forces(
@@ -946,7 +985,11 @@ impl Formulation for Dae {
         self.accelerations_into(t, y, dv, &mut work)?;
         // Only the integrator's own calls count towards how near a step came to a singular
         // position: evaluations for output samples must not change the run (projections).
-        work.min_pivot_ratio = work.min_pivot_ratio.min(work.schur.min_pivot_ratio());
+        let ratio = work.schur.min_pivot_ratio();
+        work.min_pivot_ratio = work.min_pivot_ratio.min(ratio);
+        if ratio < PROJECTION_RATIO {
+            work.stage_ratios.push((t, ratio));
+        }
         if self.energy {
             let nc = self.contacts.len();
             dstored[nc..nc + 3].copy_from_slice(&work.energy_rates);
@@ -1006,6 +1049,7 @@ impl Formulation for Dae {
         let work = self.work.get_mut();
         work.min_pivot_ratio = 1.0;
         work.residual_stages = false;
+        work.stage_ratios.clear();
     }
 
     /// The residual form's evaluations in an attempt (IDA's Newton iterates) are the stages of
@@ -1043,7 +1087,9 @@ impl Formulation for Dae {
             } else {
                 self.project_state(t, y, &mut self.work.borrow_mut(), |_| true)?
             };
-            self.episode.add(t, r_end, stage_min);
+            let stages = std::mem::take(&mut self.work.get_mut().stage_ratios);
+            self.episode.add(t, r_end, stage_min, &stages);
+            self.work.get_mut().stage_ratios = stages;
             if projected {
                 self.projections += 1;
                 response = EventResponse::Restart;

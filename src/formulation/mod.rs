@@ -267,7 +267,7 @@ pub enum FormulationError {
     /// [`dae::violation_limit`]): the trajectory has left the linkage's configuration space
     /// and no result computed from it can be trusted.
     #[error(
-        "constraint \"{constraint}\" is violated by |Φ| = {value:.3e} {unit} at t = {t:.9} s, beyond the bound {limit:.3e} {unit} ({bound}): the motion no longer satisfies the joints; tighten rtol/atol, raise the Baumgarte factors, or check that the linkage can move as driven"
+        "constraint \"{constraint}\" is violated by |Φ| = {value:.3e} {unit} at t = {t:.9} s, beyond the bound {limit:.3e} {unit} ({bound}): the motion no longer satisfies the joints; tighten rtol/atol, raise the Baumgarte factors, or check that the linkage can move as driven{diagnosis}"
     )]
     ConstraintViolation {
         /// Time of the step end (s).
@@ -282,6 +282,10 @@ pub enum FormulationError {
         unit: &'static str,
         /// How the bound was formed (the length scale and tolerances).
         bound: String,
+        /// The formulation's diagnosis at that state, with a leading space (the rows that are
+        /// nearly dependent where the violation comes from a singular position or a lock), or
+        /// empty.
+        diagnosis: String,
     },
     /// A constraint row conflicts with others at t = 0: a driver that is a combination of the
     /// other rows (it cannot be enforced independently), or a dependent row whose prescribed

@@ -23,9 +23,9 @@
 //! ∂λ = A⁻¹ (Φ_q M⁻¹ r_j − s_j), ∂q̈ = M⁻¹ (r_j − Φ_qᵀ ∂λ).
 //!
 //! This is the exact derivative of λ = A⁻¹ b with the shifts Δ_p held fixed. They also move
-//! with q, through the pivots d_p they regularise, at the rate ∂Δ_p/∂d_p = −μ_p²/(d_p + μ_p)²:
-//! below 1e-12 wherever every pivot exceeds 1e-4 D_p (μ_p = 1e-10 D_p, D_p the row's scale),
-//! that is everywhere but within about 1e-4 (relative) of a singular position. There the
+//! with q, through the pivots d_p they regularise, at the rate ∂Δ_p/∂d_p = −2μ_p³/(d_p + μ_p)³:
+//! below 2e-12 wherever every pivot exceeds 1e-4 D_p (μ_p = 1e-8 D_p, D_p the row's scale),
+//! that is everywhere but within about 1e-2 (relative) of a singular position. There the
 //! term is left out: Radau5's Newton iteration, the Jacobian's only user, converges with it
 //! (`tests/singular_parallelogram.rs` passes the flat positions with Radau5 at rtol down to
 //! 1e-10), and computing it would need one extra solve with the leading block of the factor

@@ -183,7 +183,7 @@ fn reverse_cuthill_mckee_makes_a_shuffled_chain_banded() {
 }
 
 /// The regularised pivots of [`Schur::factor_regularised`] (μ = 1e-10 of each row's
-/// translational diagonal, as the DAE uses): on positive definite S they change the solution by (μ/r)² relative (r the pivot
+/// translational diagonal; the DAE uses 1e-8): on positive definite S they change the solution by (μ/r)² relative (r the pivot
 /// ratios), below round-off; on a singular S (a repeated row) both storages factor and the
 /// solution is finite, bounded by ~|b|/μ, and satisfies S x = b along the rows that are
 /// independent (the other copy's residual is what the shift absorbs).
