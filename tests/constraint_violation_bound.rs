@@ -108,7 +108,10 @@ fn a_state_off_the_joints_is_refused_at_the_step_end() {
             unit,
             ..
         }) => {
-            assert_eq!((t, constraint.as_str(), unit), (0.5, "O.x", "m"));
+            assert_eq!(
+                (t, &*constraint, unit.to_string().as_str()),
+                (0.5, "O.x", "m")
+            );
             // Φ_x moved by exactly the shift (to round-off of the assembled zero).
             assert!(
                 (value - 2.0 * limit).abs() < 1e-12,

@@ -385,14 +385,19 @@ impl Dae {
         // A violation near a lock or singular position says which rows lost independence.
         let diagnosis = super::diagnosis::dae(self, t, y)
             .map(|d| format!(". At t = {t:.9} s: {d}"))
-            .unwrap_or_default();
+            .unwrap_or_default()
+            .into_boxed_str();
         Err(FormulationError::ConstraintViolation {
             t,
             diagnosis,
-            constraint: self.constraints.row_name(&self.model, k),
+            constraint: self.constraints.row_name(&self.model, k).into_boxed_str(),
             value,
             limit: if angle { limit_rad } else { limit_m },
-            unit: if angle { "rad" } else { "m" },
+            unit: if angle {
+                super::ViolationUnit::Radian
+            } else {
+                super::ViolationUnit::Metre
+            },
             bound: if angle {
                 format!(
                     "min({VIOLATION_CAP}, {VIOLATION_FACTOR}·(rtol + atol)) with the controlled tolerances rtol = {rtol:e}, atol = {atol:e}, at least the round-off floor {ROUNDOFF_FACTOR} ε κ with κ = {:.3e}",
@@ -403,7 +408,8 @@ impl Dae {
                     "min({VIOLATION_CAP} L, {VIOLATION_FACTOR}·(rtol·L + atol)) with the length scale L = {:.3e} m and the controlled tolerances rtol = {rtol:e}, atol = {atol:e}, at least the round-off floor {ROUNDOFF_FACTOR} ε κ L with κ = {:.3e}",
                     self.length_scale, self.conditioning
                 )
-            },
+            }
+            .into_boxed_str(),
         })
     }
 

@@ -273,19 +273,19 @@ pub enum FormulationError {
         /// Time of the step end (s).
         t: f64,
         /// Joint row ("A.x") or driver name.
-        constraint: String,
+        constraint: Box<str>,
         /// |Φ| of that row (m or rad).
         value: f64,
         /// The bound (m or rad).
         limit: f64,
-        /// "m" for position rows, "rad" for angle rows.
-        unit: &'static str,
+        /// Metres for position rows, radians for angle rows.
+        unit: ViolationUnit,
         /// How the bound was formed (the length scale and tolerances).
-        bound: String,
+        bound: Box<str>,
         /// The formulation's diagnosis at that state, with a leading space (the rows that are
         /// nearly dependent where the violation comes from a singular position or a lock), or
-        /// empty.
-        diagnosis: String,
+        /// empty (boxed: the error stays small).
+        diagnosis: Box<str>,
     },
     /// A constraint row conflicts with others at t = 0: a driver that is a combination of the
     /// other rows (it cannot be enforced independently), or a dependent row whose prescribed
@@ -336,5 +336,24 @@ impl FormulationError {
             self,
             FormulationError::PenetrationTooDeep { .. } | FormulationError::ProjectionFailed { .. }
         )
+    }
+}
+
+/// The unit of a constraint row's violation: metres for a joint's position rows, radians for
+/// an angle row (a driver). One byte, so that the error stays small.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ViolationUnit {
+    /// Position rows (m).
+    Metre,
+    /// Angle rows (rad).
+    Radian,
+}
+
+impl std::fmt::Display for ViolationUnit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ViolationUnit::Metre => "m",
+            ViolationUnit::Radian => "rad",
+        })
     }
 }
