@@ -63,6 +63,7 @@ use super::schur::{Schur, SchurSolver};
 mod jacobian;
 mod passages;
 pub mod projection;
+mod sparse_jacobian;
 use projection::PROJECTION_RATIO;
 
 /// Options of the DAE formulation.
@@ -160,6 +161,9 @@ pub struct Dae {
     /// Which step ends of an IDA run's approach are projected ([`projection::Spacing`]).
     spacing: projection::Spacing,
     work: RefCell<Work>,
+    /// The pattern of the sparse augmented Jacobian (`dae/sparse_jacobian.rs`), built when an
+    /// implicit method first asks for it.
+    sparse: std::cell::OnceCell<sparse_jacobian::SparseLayout>,
 }
 
 /// Everything one evaluation yields beyond q̈: multipliers over all rows (0 for redundant ones).
@@ -238,6 +242,7 @@ impl Dae {
                 min_pivot_ratio: 1.0,
                 residual_stages: false,
             }),
+            sparse: std::cell::OnceCell::new(),
             constraints,
         };
         if dae.energy {
@@ -1068,6 +1073,11 @@ impl Formulation for Dae {
     ) -> Result<usize, FormulationError> {
         self.analytic_jacobian(t, y, out)?;
         Ok(0)
+    }
+
+    /// In augmented form with q̈ and λ as unknowns: see `dae/sparse_jacobian.rs`.
+    fn sparse_jacobian(&self) -> Option<&dyn super::sparse_jacobian::SparseJacobian> {
+        Some(self)
     }
 
     /// Near-dependent constraint rows and clearance joints at their contact boundary
