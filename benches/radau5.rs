@@ -26,8 +26,8 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs, ReducedLagrangian};
 use linkdyn::solve::radau5::{LinearSolver, Outcome, Radau5Core, Radau5Settings, Radau5Stats};
-use std::time::Duration;
 use linkdyn::solve::{Method, Recorder, SolverOptions, integrate};
+use std::time::Duration;
 
 fn run<F: Formulation + Outputs + Clone>(f: &F, options: &SolverOptions) -> usize {
     let mut f = f.clone();
