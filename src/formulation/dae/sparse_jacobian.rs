@@ -3,7 +3,7 @@
 //!
 //! The dense Jacobian's q̈ rows are full for a connected linkage (q̈ depends on every body
 //! through λ = A⁻¹ b), and it costs one constraint solve per column: O(n²) entries and
-//! O(n² m) work, 20 ms at 81 bodies. Kept as unknowns, z = (q̈, λ) follow from y = (q, q̇, δ̇⁽⁻⁾,
+//! O(n² m) work. Kept as unknowns, z = (q̈, λ) follow from y = (q, q̇, δ̇⁽⁻⁾,
 //! energy) by the two equations the right-hand side solves (module documentation of
 //! [`super`]), scaled by M⁻¹ so that their rows are accelerations (m/s², rad/s²),
 //!
@@ -32,6 +32,9 @@
 //! Jacobian differences the whole Q over every column). Eliminating z reproduces the dense
 //! Jacobian to round-off (`dae/jacobian/tests.rs`). Cost: one right-hand side, the constraint
 //! curvature, and O(1) work per row, contact and element: linear in the size of the linkage.
+//! Measured on the N-four-bar chain at its initial state (plain loop, loaded 2-core machine):
+//! 20 µs against 0.91 ms for the dense Jacobian at 10 loops (21 bodies), 76 µs against 48 ms at
+//! 40 loops (81 bodies).
 
 use super::{Dae, sin_cos_of};
 use crate::formulation::sparse_jacobian::{Scatter, SparseJacobian, SparsePattern};
