@@ -84,13 +84,14 @@ pub enum LinearSolver {
 
 /// Fewest states for which [`LinearSolver::Auto`] takes the sparse LU. Measured per accepted
 /// Radau5 step on the N-four-bar chain (DAE, `models/nfourbar_chain.toml`, 0.5 s at rtol 1e-8,
-/// best of 15 runs, `cargo run --release --example radau5_sparse_scaling`, 2-core machine
-/// shared with two other builds, load ≈ 4): dense against sparse 0.015 against 0.027 ms at
-/// 18 states (1 loop), 0.039 / 0.046 ms at 30 (2 loops), 0.073 / 0.064 ms at 42 (3 loops),
-/// 0.13 / 0.086 ms at 54, 0.21 / 0.11 ms at 66, 1.4 / 0.33 ms at 126 (10 loops), 69 / 0.80 ms at
-/// 486 (40 loops). The two cross between 30 and 42 states. Every shipped model but the chains
-/// has at most 5 bodies (30 states, 33 with energy bookkeeping) and keeps the dense LU and its
-/// arithmetic.
+/// best of 3 runs, `cargo run --release --example radau5_sparse_scaling`, one sitting on the
+/// 2-core machine shared with two other builds, load average ≈ 5; docs/measurements.md, "Radau5
+/// with a sparse LU"), dense against sparse: 0.015 / 0.029 ms at 18 states (1 loop), 0.040 /
+/// 0.045 ms at 30 (2 loops), 0.081 / 0.066 ms at 42 (3 loops), 0.13 / 0.088 ms at 54, 0.34 /
+/// 0.10 ms at 66, 1.9 / 0.21 ms at 126 (10 loops), 98 / 1.1 ms at 486 (40 loops); best of 15
+/// in another sitting, 0.039 / 0.046 ms at 30 states and 0.073 / 0.064 ms at 42. The two cross
+/// between 30 and 42 states. Every shipped model but the chains has at most 5 bodies (30
+/// states, 33 with energy bookkeeping) and keeps the dense LU and its arithmetic.
 pub const SPARSE_MIN_STATES: usize = 40;
 
 impl Default for Radau5Settings {
