@@ -16,10 +16,18 @@
 //! 31 824 RHS (`tests/radau5_target_250rpm.rs`), against DOP853 rtol 2e-9 (2.2e-9 rad, its
 //! cheapest point ≤ 1e-8 rad; rtol 3e-9 gives 6.3e-8).
 
+//!
+//! `nfourbar_chain_40_one_step`: one Radau5 step of h = 10 ms from the initial state of the
+//! 40-loop N-four-bar chain (`models/nfourbar_chain.toml`, DAE, 486 states), restarted each
+//! time so that every step evaluates the Jacobian, factors both Newton matrices and iterates
+//! Newton from zero: with the dense LU and with the sparse one (`Radau5Settings::linear_solver`;
+//! docs/measurements.md, "Radau5 with a sparse LU").
+
 use criterion::{Criterion, criterion_group, criterion_main};
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs, ReducedLagrangian};
-use linkdyn::solve::radau5::Radau5Settings;
+use linkdyn::solve::radau5::{LinearSolver, Outcome, Radau5Core, Radau5Settings, Radau5Stats};
 use linkdyn::solve::{Method, Recorder, SolverOptions, integrate};
+use std::time::Duration;
 
 fn run<F: Formulation + Outputs + Clone>(f: &F, options: &SolverOptions) -> usize {
     let mut f = f.clone();
@@ -109,5 +117,40 @@ fn farahan(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, farahan);
+fn chain_step(c: &mut Criterion) {
+    let model = linkdyn::model::load(
+        "models/nfourbar_chain.toml".as_ref(),
+        &["parameters.N=40".to_string()],
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let dae = Dae::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let y0 = dae.initial_state();
+    let mut f0 = vec![0.0; y0.len()];
+    dae.rhs(0.0, &y0, &mut f0).unwrap_or_else(|e| panic!("{e}"));
+    let mut group = c.benchmark_group("nfourbar_chain_40_one_step");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    for (name, solver) in [
+        ("dae_radau5_dense_lu", LinearSolver::Dense),
+        ("dae_radau5_sparse_lu", LinearSolver::Sparse),
+    ] {
+        let settings = Radau5Settings::default().linear_solver(solver);
+        let mut core = Radau5Core::for_formulation(&dae, 1e-8, 1e-10, f64::INFINITY, &settings);
+        let mut stats = Radau5Stats::default();
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                core.restart(&f0);
+                match core.attempt(&dae, (0.0, &y0), (0.01, 0.01), true, &mut stats) {
+                    Ok(Outcome::Accepted { .. }) => {}
+                    other => panic!("{name}: {other:?}"),
+                }
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, farahan, chain_step);
 criterion_main!(benches);

@@ -49,6 +49,7 @@
 use serde::Serialize;
 
 use super::error::{AnalysisError, check_finite};
+use crate::formulation::sparse_jacobian::{SparseJacobian, SparsePattern};
 use crate::formulation::{Crossing, EventResponse, Formulation, FormulationError};
 use crate::solve::{SolveError, SolverOptions, SolverStats, Stepper};
 
@@ -473,6 +474,13 @@ impl<F: Formulation> Formulation for Pair<F> {
         Ok(calls)
     }
 
+    /// Block diagonal, as the dense one, when both copies give one ([`SparseJacobian`] for
+    /// `Pair`).
+    fn sparse_jacobian(&self) -> Option<&dyn SparseJacobian> {
+        (self.a.sparse_jacobian().is_some() && self.b.sparse_jacobian().is_some())
+            .then_some(self as &dyn SparseJacobian)
+    }
+
     fn error_controlled(&self, controlled: &mut [bool]) {
         let (ca, cb) = controlled.split_at_mut(self.n);
         self.a.error_controlled(ca);
@@ -516,6 +524,84 @@ impl<F: Formulation> Formulation for Pair<F> {
             (Some(a), Some(b)) => Some(format!("reference trajectory: {a}; perturbed one: {b}")),
             (a, b) => a.or(b),
         }
+    }
+}
+
+/// The pair's augmented Jacobian: unknowns (y_a, y_b, z_a, z_b), the copies' own 𝒥 on the
+/// diagonal. The copies' patterns are asked for at every call (O(non-zeros), the order of the
+/// values themselves). Reached only when both copies give one.
+impl<F: Formulation> SparseJacobian for Pair<F> {
+    fn n_algebraic(&self) -> usize {
+        let m = |f: &F| f.sparse_jacobian().map_or(0, |s| s.n_algebraic());
+        m(&self.a) + m(&self.b)
+    }
+
+    fn jacobian_pattern(&self) -> SparsePattern {
+        let dim = 2 * self.n + self.n_algebraic();
+        let mut entries = Vec::new();
+        for half in 0..2 {
+            let Some((f, index)) = self.half(half) else {
+                continue;
+            };
+            let p = f.jacobian_pattern();
+            for j in 0..p.dim() {
+                for &i in p.rows_of(j) {
+                    entries.push((index(i), index(j)));
+                }
+            }
+        }
+        SparsePattern::from_entries(dim, entries)
+    }
+
+    fn jacobian_values(
+        &self,
+        t: f64,
+        y: &[f64],
+        values: &mut [f64],
+    ) -> Result<usize, FormulationError> {
+        let pattern = self.jacobian_pattern();
+        let (ya, yb) = y.split_at(self.n.min(y.len()));
+        let mut calls = 0;
+        values.fill(0.0);
+        for (half, yh) in [(0, ya), (1, yb)] {
+            let Some((f, index)) = self.half(half) else {
+                continue;
+            };
+            let p = f.jacobian_pattern();
+            let mut own = vec![0.0; p.nnz()];
+            calls += f.jacobian_values(t, yh, &mut own)?;
+            // Each column of a copy is one column of the pair, its rows in the same order.
+            for j in 0..p.dim() {
+                let start = p.col_ptr()[j];
+                for (k, &i) in p.rows_of(j).iter().enumerate() {
+                    if let Some(v) = pattern
+                        .position(index(i), index(j))
+                        .and_then(|at| values.get_mut(at))
+                    {
+                        *v = own[start + k];
+                    }
+                }
+            }
+        }
+        Ok(calls)
+    }
+}
+
+impl<F: Formulation> Pair<F> {
+    /// Copy `half` (0 = a, 1 = b)'s sparse Jacobian and the map from its augmented numbering to
+    /// the pair's.
+    fn half(&self, half: usize) -> Option<(&dyn SparseJacobian, impl Fn(usize) -> usize + use<F>)> {
+        let n = self.n;
+        let m_a = self.a.sparse_jacobian().map_or(0, |s| s.n_algebraic());
+        let f = if half == 0 { &self.a } else { &self.b };
+        let index = move |i: usize| {
+            if i < n {
+                half * n + i
+            } else {
+                2 * n + half * m_a + (i - n)
+            }
+        };
+        f.sparse_jacobian().map(|s| (s, index))
     }
 }
 
@@ -613,6 +699,9 @@ mod tests {
         fn error_controlled(&self, controlled: &mut [bool]) {
             controlled[2] = false;
         }
+        fn sparse_jacobian(&self) -> Option<&dyn SparseJacobian> {
+            Some(self)
+        }
         fn accept_step(
             &mut self,
             _t: f64,
@@ -625,6 +714,75 @@ mod tests {
             y[1] /= r;
             self.projections += 1;
             Ok(EventResponse::Restart)
+        }
+    }
+
+    /// The circle as y' = (v, z, 0), 0 = z + x: one algebraic unknown z = −x.
+    impl SparseJacobian for Circle {
+        fn n_algebraic(&self) -> usize {
+            1
+        }
+        fn jacobian_pattern(&self) -> SparsePattern {
+            SparsePattern::from_entries(4, [(0, 0), (1, 1), (2, 2), (3, 3), (0, 1), (1, 3), (3, 0)])
+        }
+        fn jacobian_values(
+            &self,
+            _t: f64,
+            _y: &[f64],
+            values: &mut [f64],
+        ) -> Result<usize, FormulationError> {
+            let p = self.jacobian_pattern();
+            values.fill(0.0);
+            for (i, j) in [(0, 1), (1, 3), (3, 0), (3, 3)] {
+                if let Some(v) = p.position(i, j).and_then(|k| values.get_mut(k)) {
+                    *v = 1.0;
+                }
+            }
+            Ok(0)
+        }
+    }
+
+    #[test]
+    fn the_pair_forwards_the_sparse_jacobian_block_by_block() {
+        let pair = Pair {
+            a: Circle::default(),
+            b: Circle::default(),
+            n: 3,
+        };
+        let Some(sparse) = pair.sparse_jacobian() else {
+            panic!("both copies give a sparse Jacobian: so does the pair");
+        };
+        assert_eq!(sparse.n_algebraic(), 2);
+        let p = sparse.jacobian_pattern();
+        let mut values = vec![9.0; p.nnz()];
+        let y = [1.0, 0.0, 0.0, 0.5, 0.5, 0.0];
+        assert_eq!(sparse.jacobian_values(0.0, &y, &mut values).ok(), Some(0));
+        let mut full = nalgebra::DMatrix::<f64>::zeros(8, 8);
+        for j in 0..8 {
+            for (k, &i) in p.rows_of(j).iter().enumerate() {
+                full[(i, j)] = values[p.col_ptr()[j] + k];
+            }
+        }
+        // (y_a, y_b, z_a, z_b): z_a = 6 pairs with y_a = 0..3, z_b = 7 with y_b = 3..6.
+        assert_eq!(
+            (full[(1, 6)], full[(6, 0)], full[(4, 7)], full[(7, 3)]),
+            (1.0, 1.0, 1.0, 1.0)
+        );
+        let d = full.view((6, 6), (2, 2)).clone_owned();
+        let Some(d_inv_c) = d.lu().solve(&full.view((6, 0), (2, 6)).clone_owned()) else {
+            panic!("∂k/∂z is the identity");
+        };
+        let schur = full.view((0, 0), (6, 6)) - full.view((0, 6), (6, 2)) * d_inv_c;
+        let (mut dense, mut work) = ([0.0; 36], [0.0; 12]);
+        assert_eq!(
+            pair.jacobian(0.0, &y, &[0.0; 6], &mut dense, &mut work)
+                .ok(),
+            Some(0)
+        );
+        for i in 0..6 {
+            for j in 0..6 {
+                assert_eq!(schur[(i, j)], dense[i * 6 + j], "J[{i}][{j}]");
+            }
         }
     }
 

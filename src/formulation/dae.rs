@@ -63,6 +63,7 @@ use super::schur::{Schur, SchurSolver};
 mod jacobian;
 mod passages;
 pub mod projection;
+mod sparse_jacobian;
 use projection::PROJECTION_RATIO;
 
 /// Options of the DAE formulation.
@@ -164,6 +165,9 @@ pub struct Dae {
     /// Which step ends of an IDA run's approach are projected ([`projection::Spacing`]).
     spacing: projection::Spacing,
     work: RefCell<Work>,
+    /// The pattern of the sparse augmented Jacobian (`dae/sparse_jacobian.rs`), built when an
+    /// implicit method first asks for it.
+    sparse: std::cell::OnceCell<sparse_jacobian::SparseLayout>,
 }
 
 /// Everything one evaluation yields beyond q̈: multipliers over all rows (0 for redundant ones).
@@ -243,6 +247,7 @@ impl Dae {
                 residual_stages: false,
                 stage_ratios: Vec::new(),
             }),
+            sparse: std::cell::OnceCell::new(),
             constraints,
         };
         if dae.energy {
@@ -1120,6 +1125,11 @@ impl Formulation for Dae {
     ) -> Result<usize, FormulationError> {
         self.analytic_jacobian(t, y, out)?;
         Ok(0)
+    }
+
+    /// In augmented form with q̈ and λ as unknowns: see `dae/sparse_jacobian.rs`.
+    fn sparse_jacobian(&self) -> Option<&dyn super::sparse_jacobian::SparseJacobian> {
+        Some(self)
     }
 
     /// Near-dependent constraint rows and clearance joints at their contact boundary

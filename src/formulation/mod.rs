@@ -16,6 +16,7 @@ pub mod reduced_lagrangian;
 pub mod residual;
 pub mod residual_dae;
 pub mod schur;
+pub mod sparse_jacobian;
 #[cfg(test)]
 mod test_rng;
 
@@ -103,6 +104,15 @@ pub trait Formulation {
         work: &mut [f64],
     ) -> Result<usize, FormulationError> {
         jacobian::finite_difference(self, t, y, f_y, out, work)
+    }
+
+    /// The Jacobian in sparse augmented form ([`sparse_jacobian`]), for implicit methods on
+    /// large models: the integrator then factors sparse Newton matrices instead of the dense
+    /// n × n ones of [`Formulation::jacobian`] (`solve::radau5`, `Radau5Settings::linear_solver`).
+    /// Default: `None` (dense only). Wrappers forward it, or implicit methods fall back to the
+    /// dense Jacobian.
+    fn sparse_jacobian(&self) -> Option<&dyn sparse_jacobian::SparseJacobian> {
+        None
     }
 
     /// Marks the states whose local error the integrators control. `controlled` (length

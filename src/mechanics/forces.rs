@@ -76,51 +76,80 @@ impl AppliedForces {
             out[3 * i + 2] = 0.0;
         }
         for e in &self.elements {
-            match e {
-                ForceElement::Torque { body, torque, .. } => out[3 * body.0 + 2] += torque,
-                ForceElement::PointForce { at, force, .. } => {
-                    add_point_force(at, *force, q, v, sin_cos, out)
+            add_element_into(e, t, q, v, sin_cos, out);
+        }
+    }
+
+    /// Number of force elements (gravity not counted).
+    pub fn n_elements(&self) -> usize {
+        self.elements.len()
+    }
+
+    /// Adds force element k's part of Q(t, q, q̇) to `out` (length 3 × bodies); nothing for an
+    /// index out of range. Touches only the entries of [`AppliedForces::element_bodies`].
+    pub fn add_element_into(
+        &self,
+        k: usize,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        sin_cos: &[(f64, f64)],
+        out: &mut [f64],
+    ) {
+        if let Some(e) = self.elements.get(k) {
+            add_element_into(e, t, q, v, sin_cos, out);
+        }
+    }
+
+    /// The bodies (indices) that force element k acts on or reads: the bodies of its points and
+    /// of its joint, and those whose coordinates or speeds its expressions read (a joint
+    /// angle's two bodies), sorted, without repeats. Its part of Q lies in the rows of these
+    /// bodies and depends on their coordinates and speeds only (and t). Empty for an index out
+    /// of range.
+    pub fn element_bodies(&self, k: usize) -> Vec<usize> {
+        let mut bodies = Vec::new();
+        let mut frame = |f: Frame| {
+            if let Frame::Body(id) = f {
+                bodies.push(id.0);
+            }
+        };
+        let reads = |e: &crate::model::Expr, frame: &mut dyn FnMut(Frame)| {
+            e.for_each_variable(&mut |var| match var {
+                Variable::Time => {}
+                Variable::Body { body, .. } => frame(Frame::Body(body)),
+                Variable::JointAngle { a, b } | Variable::JointSpeed { a, b } => {
+                    frame(a);
+                    frame(b);
                 }
-                ForceElement::TorqueLaw { body, torque, .. } => {
-                    out[3 * body.0 + 2] += at_state(&torque.tree, t, q, v)
-                }
-                ForceElement::ForceLaw { at, force, .. } => {
-                    let f = [
-                        at_state(&force[0].tree, t, q, v),
-                        at_state(&force[1].tree, t, q, v),
-                    ];
-                    add_point_force(at, f, q, v, sin_cos, out)
-                }
-                ForceElement::Motor { a, b, torque, .. } => {
-                    let tau = at_state(&torque.tree, t, q, v);
-                    if let Frame::Body(id) = b {
-                        out[3 * id.0 + 2] += tau;
-                    }
-                    if let Frame::Body(id) = a {
-                        out[3 * id.0 + 2] -= tau;
-                    }
-                }
-                ForceElement::SpringDamper {
-                    a,
-                    b,
-                    stiffness,
-                    damping,
-                    free_length,
-                    ..
-                } => {
-                    // Coincident points leave the direction undefined: no force, as for any
-                    // element of zero length.
-                    let Some(s) = SpringState::of(a, b, q, v, sin_cos) else {
-                        continue;
-                    };
-                    let tension = stiffness * (s.length - free_length) + damping * s.rate;
-                    let u = s.direction;
-                    // Tension pulls b towards a and a towards b.
-                    add_point_force(a, [tension * u[0], tension * u[1]], q, v, sin_cos, out);
-                    add_point_force(b, [-tension * u[0], -tension * u[1]], q, v, sin_cos, out);
+            });
+        };
+        match self.elements.get(k) {
+            None => {}
+            Some(ForceElement::SpringDamper { a, b, .. }) => {
+                frame(a.frame);
+                frame(b.frame);
+            }
+            Some(ForceElement::Torque { body, .. }) => frame(Frame::Body(*body)),
+            Some(ForceElement::PointForce { at, .. }) => frame(at.frame),
+            Some(ForceElement::TorqueLaw { body, torque, .. }) => {
+                frame(Frame::Body(*body));
+                reads(&torque.tree, &mut frame);
+            }
+            Some(ForceElement::ForceLaw { at, force, .. }) => {
+                frame(at.frame);
+                for f in force {
+                    reads(&f.tree, &mut frame);
                 }
             }
+            Some(ForceElement::Motor { a, b, torque, .. }) => {
+                frame(*a);
+                frame(*b);
+                reads(&torque.tree, &mut frame);
+            }
         }
+        bodies.sort_unstable();
+        bodies.dedup();
+        bodies
     }
 
     /// Power of the constant torques and point forces (W) and the rate at which the dampers of
@@ -181,6 +210,61 @@ impl AppliedForces {
             }
         }
         u
+    }
+}
+
+/// Adds one force element's part of Q(t, q, q̇) to `out`.
+fn add_element_into(
+    e: &ForceElement,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    sin_cos: &[(f64, f64)],
+    out: &mut [f64],
+) {
+    match e {
+        ForceElement::Torque { body, torque, .. } => out[3 * body.0 + 2] += torque,
+        ForceElement::PointForce { at, force, .. } => {
+            add_point_force(at, *force, q, v, sin_cos, out)
+        }
+        ForceElement::TorqueLaw { body, torque, .. } => {
+            out[3 * body.0 + 2] += at_state(&torque.tree, t, q, v)
+        }
+        ForceElement::ForceLaw { at, force, .. } => {
+            let f = [
+                at_state(&force[0].tree, t, q, v),
+                at_state(&force[1].tree, t, q, v),
+            ];
+            add_point_force(at, f, q, v, sin_cos, out)
+        }
+        ForceElement::Motor { a, b, torque, .. } => {
+            let tau = at_state(&torque.tree, t, q, v);
+            if let Frame::Body(id) = b {
+                out[3 * id.0 + 2] += tau;
+            }
+            if let Frame::Body(id) = a {
+                out[3 * id.0 + 2] -= tau;
+            }
+        }
+        ForceElement::SpringDamper {
+            a,
+            b,
+            stiffness,
+            damping,
+            free_length,
+            ..
+        } => {
+            // Coincident points leave the direction undefined: no force, as for any
+            // element of zero length.
+            let Some(s) = SpringState::of(a, b, q, v, sin_cos) else {
+                return;
+            };
+            let tension = stiffness * (s.length - free_length) + damping * s.rate;
+            let u = s.direction;
+            // Tension pulls b towards a and a towards b.
+            add_point_force(a, [tension * u[0], tension * u[1]], q, v, sin_cos, out);
+            add_point_force(b, [-tension * u[0], -tension * u[1]], q, v, sin_cos, out);
+        }
     }
 }
 

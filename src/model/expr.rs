@@ -211,6 +211,20 @@ impl Expr {
         }
     }
 
+    /// Calls `f` with every variable that appears (repeats included), in order.
+    pub fn for_each_variable(&self, f: &mut impl FnMut(Variable)) {
+        match self {
+            Expr::Num(_) => {}
+            Expr::Var(v) => f(*v),
+            Expr::Neg(a) | Expr::Table(_, a) => a.for_each_variable(f),
+            Expr::Bin(_, a, b) => {
+                a.for_each_variable(f);
+                b.for_each_variable(f);
+            }
+            Expr::Call(_, args) => args.iter().for_each(|a| a.for_each_variable(f)),
+        }
+    }
+
     /// Value with the variables read from `var`.
     pub fn eval(&self, var: &impl Fn(Variable) -> f64) -> f64 {
         match self {

@@ -7,18 +7,19 @@ use super::integrator::{ErrorWeights, Integrator};
 use super::options::{Method, SolverOptions};
 use crate::formulation::Formulation;
 
-/// The integrator of `opts.method` for a formulation with n states and error weights `weights`.
+/// The integrator of `opts.method` for the formulation `f` and error weights `weights`.
 pub(crate) fn new_integrator<F: Formulation + ?Sized>(
     opts: &SolverOptions,
-    n: usize,
+    f: &F,
     weights: ErrorWeights,
 ) -> Box<dyn Integrator<F>> {
+    let n = f.n_states();
     let beta = opts.beta_or_default();
     match opts.method {
         Method::Dopri5 => Box::new(ExplicitRk::<Dopri5>::new(n, weights, beta)),
         Method::Dop853 => Box::new(ExplicitRk::<Dop853>::new(n, weights, beta)),
         Method::Radau5 => Box::new(super::radau5::Radau5Method::new(
-            n,
+            f,
             &weights,
             opts.h_max,
             &opts.radau5,

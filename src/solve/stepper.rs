@@ -200,7 +200,7 @@ impl<'a, F: Formulation> Stepper<'a, F> {
         let weights = ErrorWeights::new(&*f, opts.rtol, opts.atol);
         let ne = f.n_events();
         let mut stepper = Stepper {
-            integrator: new_integrator::<F>(opts, n, weights),
+            integrator: new_integrator::<F>(opts, &*f, weights),
             opts: opts.clone(),
             n,
             t_end,

@@ -87,7 +87,9 @@ impl Dae {
 
         // ∂Q/∂y over the columns q, q̇, δ̇⁽⁻⁾ (n × n_cols, row-major).
         let mut dq_force = vec![0.0; n * n_cols];
-        self.contact_force_derivatives(y, &sin_cos, &mut dq_force);
+        self.contact_force_derivatives(y, &sin_cos, &mut |row, col, d| {
+            dq_force[row * n_cols + col] += d;
+        });
         if !self.model.forces.is_empty() {
             self.applied_force_derivatives(t, y, &mut dq_force);
         }
@@ -196,10 +198,17 @@ impl Dae {
         Ok(())
     }
 
-    /// Adds ∂Q/∂y of the contact forces to `dq` (n × (2n + n_c), row-major).
-    fn contact_force_derivatives(&self, y: &[f64], sin_cos: &[(f64, f64)], dq: &mut [f64]) {
+    /// Hands ∂Q/∂y of the contact forces to `add(row, column, value)`: row a coordinate
+    /// (0..n), column a state (q, q̇, δ̇⁽⁻⁾: 0..2n + n_c); each entry may come in several parts.
+    /// Only the rows and columns of the two bodies of a clearance joint in contact (and its
+    /// stored impact velocity) are touched.
+    pub(super) fn contact_force_derivatives(
+        &self,
+        y: &[f64],
+        sin_cos: &[(f64, f64)],
+        add: &mut impl FnMut(usize, usize, f64),
+    ) {
         let n = self.n_coordinates();
-        let n_cols = 2 * n + self.contacts.len();
         let (q, v) = (&y[..n], &y[n..2 * n]);
         for (k, site) in self.contacts.sites().iter().enumerate() {
             let stored = y[2 * n + k];
@@ -295,14 +304,14 @@ impl Dae {
                     let Frame::Body(id) = frame else { continue };
                     let b = 3 * id.0;
                     let d_force = [sign * df.on_journal[0], sign * df.on_journal[1]];
-                    dq[b * n_cols + col] += d_force[0];
-                    dq[(b + 1) * n_cols + col] += d_force[1];
+                    add(b, *col, d_force[0]);
+                    add(b + 1, *col, d_force[1]);
                     let mut d_moment = cross(point.arm, d_force) + moment_arm * df.friction;
                     if *col == b + 2 {
                         // The arm turns with its body.
                         d_moment += cross(perp(point.arm), force);
                     }
-                    dq[(b + 2) * n_cols + col] += d_moment;
+                    add(b + 2, *col, d_moment);
                 }
             }
         }
@@ -335,7 +344,7 @@ impl Dae {
 }
 
 /// The global columns of a row's six local coordinates (None on the ground).
-fn local_columns(a: Option<usize>, b: Option<usize>) -> [Option<usize>; 6] {
+pub(super) fn local_columns(a: Option<usize>, b: Option<usize>) -> [Option<usize>; 6] {
     let mut cols = [None; 6];
     for (side, body) in [a, b].into_iter().enumerate() {
         if let Some(body) = body {

@@ -23,9 +23,16 @@ pub struct Radau5Method {
 }
 
 impl Radau5Method {
-    /// The method for n states with the run's tolerances, `h_max`, `settings` and the error
-    /// weights' controlled components (overriding `settings.error_mask`).
-    pub fn new(n: usize, weights: &ErrorWeights, h_max: f64, settings: &Radau5Settings) -> Self {
+    /// The method for formulation `f` with the run's tolerances, `h_max`, `settings` and the
+    /// error weights' controlled components (overriding `settings.error_mask`); the Newton
+    /// matrices dense or sparse as `settings.linear_solver` and `f` ask.
+    pub fn new<F: Formulation + ?Sized>(
+        f: &F,
+        weights: &ErrorWeights,
+        h_max: f64,
+        settings: &Radau5Settings,
+    ) -> Self {
+        let n = f.n_states();
         let mut mask = vec![false; n];
         for &i in &weights.controlled {
             if let Some(m) = mask.get_mut(i) {
@@ -37,9 +44,15 @@ impl Radau5Method {
             ..settings.clone()
         };
         Radau5Method {
-            core: Radau5Core::new(n, weights.rtol, weights.atol, h_max, &settings),
+            core: Radau5Core::for_formulation(f, weights.rtol, weights.atol, h_max, &settings),
             local: Radau5Stats::default(),
         }
+    }
+
+    /// Whether the Newton matrices are factored by the sparse LU.
+    #[must_use]
+    pub fn uses_sparse_lu(&self) -> bool {
+        self.core.uses_sparse_lu()
     }
 
     /// The core's counters so far (LU decompositions, RHS calls of Jacobians …).

@@ -7,7 +7,7 @@
 //! f(t, y), the Jacobian, the LU factors, the step-size history and the last collocation
 //! polynomial. An attempt changes that committed state only when it is accepted.
 
-use super::linalg::{ComplexLu, Partition, RealLu};
+use super::newton::NewtonMatrices;
 use super::settings::{Radau5Settings, Radau5Stats};
 use super::tableau::{C1, C1M1, C1MC2, C2, C2M1, DD, Eigen, T, TI};
 use crate::formulation::Formulation;
@@ -85,15 +85,12 @@ pub struct Radau5Core {
     /// f(t, y) at the start of the next attempt.
     f0: Vec<f64>,
     scal: Vec<f64>,
-    jac: Vec<f64>,
-    /// Whether `jac` was evaluated at the start of the next attempt, and whether that attempt
+    /// The Jacobian and the LU factors of the Newton matrices (dense or sparse).
+    newton: NewtonMatrices,
+    /// Whether the Jacobian was evaluated at the start of the next attempt, and whether that attempt
     /// must evaluate it.
     jac_current: bool,
     need_jac: bool,
-    jac_work: Vec<f64>,
-    part: Partition,
-    e1: RealLu,
-    e2: ComplexLu,
     /// Step size of the LU factors (NaN: none valid).
     lu_h: f64,
     z: [Vec<f64>; 3],
@@ -137,8 +134,33 @@ pub struct Radau5Core {
 
 impl Radau5Core {
     /// A core for n states with tolerances `rtol`, `atol` (before Hairer's transform), largest
-    /// step `h_max` and `settings` (validated by the caller for this n).
+    /// step `h_max` and `settings` (validated by the caller for this n), with the dense LU.
     pub fn new(n: usize, rtol: f64, atol: f64, h_max: f64, settings: &Radau5Settings) -> Self {
+        Self::with_newton(n, rtol, atol, h_max, settings, NewtonMatrices::dense(n))
+    }
+
+    /// A core for the formulation `f` as [`Radau5Core::new`], with the dense or the sparse LU
+    /// as `settings.linear_solver` and `f` ask ([`LinearSolver`](super::LinearSolver)).
+    pub fn for_formulation<F: Formulation + ?Sized>(
+        f: &F,
+        rtol: f64,
+        atol: f64,
+        h_max: f64,
+        settings: &Radau5Settings,
+    ) -> Self {
+        let n = f.n_states();
+        let newton = NewtonMatrices::new(f, n, settings.linear_solver);
+        Self::with_newton(n, rtol, atol, h_max, settings, newton)
+    }
+
+    fn with_newton(
+        n: usize,
+        rtol: f64,
+        atol: f64,
+        h_max: f64,
+        settings: &Radau5Settings,
+        newton: NewtonMatrices,
+    ) -> Self {
         let (rtol, atol) = if settings.hairer_tolerances {
             crate::solve::options::hairer_transform(rtol, atol)
         } else {
@@ -167,13 +189,9 @@ impl Radau5Core {
             eig: Eigen::new(),
             f0: vec![0.0; n],
             scal: vec![0.0; n],
-            jac: vec![0.0; n * n],
+            newton,
             jac_current: false,
             need_jac: true,
-            jac_work: vec![0.0; 2 * n],
-            part: Partition::new(n),
-            e1: RealLu::new(n),
-            e2: ComplexLu::new(n),
             lu_h: f64::NAN,
             z: vec3(),
             w: vec3(),
@@ -223,6 +241,20 @@ impl Radau5Core {
         // had a true error of 3e-5 rad/s in θ̇3 (docs/numerics.md, "The reduced formulation meets
         // the target").
         self.faccon = 1.0;
+    }
+
+    /// Whether the Newton matrices are factored by the sparse LU (see
+    /// [`LinearSolver`](super::LinearSolver)).
+    #[must_use]
+    pub fn uses_sparse_lu(&self) -> bool {
+        self.newton.is_sparse()
+    }
+
+    /// Structural non-zeros of one Newton matrix: n² with the dense LU, those of the augmented
+    /// matrix with the sparse one.
+    #[must_use]
+    pub fn newton_matrix_entries(&self) -> usize {
+        self.newton.stored_entries()
     }
 
     /// The state at the end of the last attempt (meaningless after a rejection).
@@ -309,23 +341,21 @@ impl Radau5Core {
             *s = atol + rtol * v.abs();
         }
         if self.need_jac && !self.jac_current {
-            let calls = f
-                .jacobian(t, y, &self.f0, &mut self.jac, &mut self.jac_work)
+            let calls = self
+                .newton
+                .evaluate(f, t, y, &self.f0)
                 .map_err(|source| SolveError::Formulation { t, source })?;
             stats.jacobian_evals += 1;
             stats.jacobian_rhs_evals += calls as u64;
             stats.rhs_evals += calls as u64;
             self.jac_current = true;
-            self.part.update(&self.jac);
             self.lu_h = f64::NAN;
         }
         self.need_jac = false;
         let (fac1, alphn, betan) = (self.eig.gamma / h, self.eig.alpha / h, self.eig.beta / h);
         if self.lu_h != h {
             stats.lu_decompositions += 1;
-            let ok = self.e1.factor(fac1, &self.jac, &self.part).is_ok()
-                && self.e2.factor(alphn, betan, &self.jac, &self.part).is_ok();
-            if !ok {
+            if self.newton.factor(fac1, alphn, betan).is_err() {
                 self.lu_h = f64::NAN;
                 stats.singular_matrices += 1;
                 return Ok(self.reject_with(0.5 * h, Rejection::NewtonFailure, stats));
@@ -364,9 +394,9 @@ impl Radau5Core {
                 self.fs[2][k] =
                     TI[2][0] * a1 + TI[2][1] * a2 + TI[2][2] * a3 - alphn * w3 - betan * w2;
             }
-            self.e1.solve(&mut self.fs[0]);
+            self.newton.solve_real(&mut self.fs[0]);
             let [_, f2, f3] = &mut self.fs;
-            self.e2.solve(f2, f3);
+            self.newton.solve_complex(f2, f3);
             newt += 1;
             stats.newton_iterations += 1;
             let dyno = {
@@ -605,7 +635,7 @@ impl Radau5Core {
             self.err_rhs[k] = f2;
             self.err_vec[k] = f2 + self.f0[k];
         }
-        self.e1.solve(&mut self.err_vec);
+        self.newton.solve_real(&mut self.err_vec);
         let mut err = self.scaled_rms(&self.err_vec).max(1e-10);
         if err >= 1.0 && (self.first || self.reject) {
             for k in 0..self.n {
@@ -617,7 +647,7 @@ impl Radau5Core {
                     for k in 0..self.n {
                         self.err_vec[k] = self.fs[1][k] + self.err_rhs[k];
                     }
-                    self.e1.solve(&mut self.err_vec);
+                    self.newton.solve_real(&mut self.err_vec);
                     err = self.scaled_rms(&self.err_vec).max(1e-10);
                 }
                 // The filtered state is only a probe: if it overshoots into a contact, keep the

@@ -1,8 +1,10 @@
 //! Dense LU factorisations with partial pivoting of the two Newton matrices of Radau IIA:
 //! the real E₁ = γ̂/h·I − J and the complex E₂ = (α̂ + iβ̂)/h·I − J (n×n, row-major).
 //!
-//! Hand-written for the sizes met here (n = 4 to ~40): the buffers are allocated once, and
-//! factorising or solving allocates nothing. Complex numbers are kept as separate real and
+//! Hand-written for the sizes met here (n = 4 to ~40; above
+//! [`SPARSE_MIN_STATES`](super::SPARSE_MIN_STATES) the sparse LU of `sparse.rs` takes over where
+//! the formulation allows): the buffers are allocated once, and factorising or solving
+//! allocates nothing. Complex numbers are kept as separate real and
 //! imaginary arrays.
 //!
 //! **Decoupled components.** A component j whose Jacobian column is zero off the diagonal

@@ -8,7 +8,11 @@
 //!
 //! **Newton.** Simplified Newton iterations with the Jacobian J at (t_n, y_n) and the
 //! transformation W = (T⁻¹ ⊗ I) Z that splits the 3n×3n system into one real n×n system with
-//! γ̂/h·I − J and one complex n×n system with (α̂ + iβ̂)/h·I − J (modules `tableau`, `linalg`).
+//! γ̂/h·I − J and one complex n×n system with (α̂ + iβ̂)/h·I − J (modules `tableau`, `newton`).
+//! They are factored by a dense LU of J (`linalg`) or, on large models whose formulation gives
+//! its Jacobian in sparse augmented form, by a sparse LU (faer) of the augmented matrices with
+//! the column order analysed once per run (`sparse`; [`LinearSolver`], chosen by size:
+//! [`SPARSE_MIN_STATES`]).
 //! Starting values come from the collocation polynomial of the previous step (zero on the
 //! first step and after a restart). The iteration stops when κ·‖ΔW‖ ≤ `newton_tol`, with
 //! κ = θ/(1 − θ) and the contraction rate θ = ‖ΔW_k‖/‖ΔW_{k−1}‖ (geometric mean of the last
@@ -53,8 +57,10 @@
 //! There is no second driver: tests, examples and benches run Radau5 the way `linkdyn run`
 //! does.
 //!
-//! **Allocation.** All buffers are allocated by [`Radau5Core::new`]; stepping allocates
-//! nothing.
+//! **Allocation.** All buffers are allocated by [`Radau5Core::new`] (or
+//! [`Radau5Core::for_formulation`]); stepping allocates nothing with the dense LU. The sparse
+//! LU's factors keep their capacity between factorisations and grow only when a factor needs
+//! more room than before; a formulation's Jacobian may allocate its own scratch.
 //!
 //! ```
 //! use linkdyn::formulation::{Formulation, FormulationError};
@@ -91,9 +97,11 @@
 mod adapter;
 mod core;
 mod linalg;
+mod newton;
 mod settings;
+mod sparse;
 mod tableau;
 
 pub use self::core::{Outcome, Radau5Core, Rejection};
 pub use adapter::Radau5Method;
-pub use settings::{Radau5Settings, Radau5Stats};
+pub use settings::{LinearSolver, Radau5Settings, Radau5Stats, SPARSE_MIN_STATES};

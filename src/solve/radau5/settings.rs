@@ -20,6 +20,7 @@ use crate::solve::SolveError;
 /// | `hairer_tolerances` | true | (the transform in `RADAU5`) |
 /// | `error_mask` | `None`: every component is error-controlled | — |
 /// | `cut_at_events` | true | — |
+/// | `linear_solver` | [`LinearSolver::Auto`] | (`MLJAC`, `MUJAC`: banded) |
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Radau5Settings {
     /// Largest number of simplified Newton iterations per step attempt.
@@ -55,7 +56,43 @@ pub struct Radau5Settings {
     /// in the first or the last 1 % of the attempt is left uncut: the other law holds on a
     /// sliver only, and a cut near the start would shrink the step to that sliver.
     pub cut_at_events: bool,
+    /// How the Newton matrices are factored: dense LU of J, or sparse LU of the formulation's
+    /// augmented Jacobian ([`LinearSolver`]).
+    pub linear_solver: LinearSolver,
 }
+
+/// How Radau5 factors its Newton matrices γ̂/h·I − J and (α̂ + iβ̂)/h·I − J.
+///
+/// The dense LU (`linalg.rs`) of the n × n Jacobian costs O(n³) per factorisation and the
+/// Jacobian itself O(n²) or more to form; the sparse one (`sparse.rs`, faer) factors the
+/// formulation's augmented Jacobian
+/// ([`Formulation::sparse_jacobian`](crate::formulation::Formulation::sparse_jacobian)), whose
+/// cost grows with its non-zeros. Both solve the same linear systems; the results agree to
+/// round-off (`tests/radau5_sparse_newton.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LinearSolver {
+    /// Sparse when the formulation gives a sparse Jacobian and has at least
+    /// [`SPARSE_MIN_STATES`] states, dense otherwise (the default).
+    #[default]
+    Auto,
+    /// Always the dense LU of [`Formulation::jacobian`](crate::formulation::Formulation::jacobian).
+    Dense,
+    /// The sparse LU whenever the formulation gives a sparse Jacobian (dense otherwise).
+    Sparse,
+}
+
+/// Fewest states for which [`LinearSolver::Auto`] takes the sparse LU. Measured per accepted
+/// Radau5 step on the N-four-bar chain (DAE, `models/nfourbar_chain.toml`, 0.5 s at rtol 1e-8,
+/// best of 3 runs, `cargo run --release --example radau5_sparse_scaling`, one sitting on the
+/// 2-core machine shared with two other builds, load average ≈ 5; docs/measurements.md, "Radau5
+/// with a sparse LU"), dense against sparse: 0.015 / 0.029 ms at 18 states (1 loop), 0.040 /
+/// 0.045 ms at 30 (2 loops), 0.081 / 0.066 ms at 42 (3 loops), 0.13 / 0.088 ms at 54, 0.34 /
+/// 0.10 ms at 66, 1.9 / 0.21 ms at 126 (10 loops), 98 / 1.1 ms at 486 (40 loops); best of 15
+/// in another sitting, 0.039 / 0.046 ms at 30 states and 0.073 / 0.064 ms at 42. The two cross
+/// between 30 and 42 states. Every shipped model but the chains has at most 5 bodies (30
+/// states, 33 with energy bookkeeping) and keeps the dense LU and its arithmetic.
+pub const SPARSE_MIN_STATES: usize = 40;
 
 impl Default for Radau5Settings {
     fn default() -> Self {
@@ -70,6 +107,7 @@ impl Default for Radau5Settings {
             hairer_tolerances: true,
             error_mask: None,
             cut_at_events: true,
+            linear_solver: LinearSolver::Auto,
         }
     }
 }
@@ -107,6 +145,13 @@ impl Radau5Settings {
     #[must_use]
     pub fn cut_at_events(mut self, on: bool) -> Self {
         self.cut_at_events = on;
+        self
+    }
+
+    /// Sets how the Newton matrices are factored.
+    #[must_use]
+    pub fn linear_solver(mut self, solver: LinearSolver) -> Self {
+        self.linear_solver = solver;
         self
     }
 

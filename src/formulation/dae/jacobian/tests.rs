@@ -178,3 +178,159 @@ fn slider_crank_with_gas_load_and_clearance() -> Result<(), FormulationError> {
     let y = contact_state(&d, 2e-6, 0.3, 0.02, 0.2, 0.1);
     check(&d, &y, "slider-crank, sliding contact")
 }
+
+// ---- The sparse augmented form (`dae/sparse_jacobian.rs`) -------------------------------------
+
+/// The augmented Jacobian 𝒥 at (t, y) writes nothing outside its pattern, and its Schur
+/// complement 𝒥_yy − 𝒥_yz 𝒥_zz⁻¹ 𝒥_zy is the dense analytic Jacobian.
+fn check_augmented(d: &Dae, t: f64, y: &[f64], case: &str) -> Result<(), FormulationError> {
+    use crate::formulation::sparse_jacobian::SparseJacobian;
+    use nalgebra::DMatrix;
+    let ny = d.n_states();
+    let mut dense = vec![0.0; ny * ny];
+    d.analytic_jacobian(t, y, &mut dense)?;
+    let layout = d.sparse_layout();
+    let pattern = d.jacobian_pattern();
+    let dim = pattern.dim();
+    assert_eq!(dim, ny + d.n_algebraic(), "{case}: dimension of 𝒥");
+    for i in 0..dim {
+        assert!(pattern.position(i, i).is_some(), "{case}: diagonal {i}");
+    }
+    let mut values = vec![f64::NAN; pattern.nnz()];
+    let missed = d.augmented_jacobian(t, y, layout, &mut values)?;
+    assert_eq!(missed, 0, "{case}: entries written outside the pattern");
+    let mut full = DMatrix::<f64>::zeros(dim, dim);
+    for j in 0..dim {
+        let start = pattern.col_ptr()[j];
+        for (k, &i) in pattern.rows_of(j).iter().enumerate() {
+            full[(i, j)] = values[start + k];
+        }
+    }
+    let nz = dim - ny;
+    let a = full.view((0, 0), (ny, ny));
+    let b = full.view((0, ny), (ny, nz));
+    let c = full.view((ny, 0), (nz, ny)).clone_owned();
+    let dz = full.view((ny, ny), (nz, nz)).clone_owned();
+    let Some(dz_inv_c) = dz.lu().solve(&c) else {
+        panic!("{case}: ∂k/∂z singular");
+    };
+    let schur = a - b * dz_inv_c;
+    let scale = dense.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+    for i in 0..ny {
+        let row_max = (0..ny).fold(0.0_f64, |m, j| m.max(dense[i * ny + j].abs()));
+        for j in 0..ny {
+            let (s, e) = (schur[(i, j)], dense[i * ny + j]);
+            // Two orders of the same arithmetic through the constraint solve (condition number
+            // ~1e3 away from singular positions) and, for force elements, differences of one
+            // element's force instead of the whole Q (rounding u·|Q|/h ≈ 2e-11 |Q| with
+            // h = 6e-6): 1e-9 of the row's largest entry, or of the largest, leaves a margin.
+            let bound = 1e-9 * row_max + 1e-12 * scale;
+            assert!(
+                (s - e).abs() <= bound,
+                "{case}: J[{i}][{j}] from 𝒥 {s:e} vs dense {e:e} (bound {bound:e})"
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `count` random states near y0: coordinates moved by up to `dq` (m, rad), speeds set to
+/// random values up to `speed` (m/s, rad/s), from a fixed seed.
+fn random_states(y0: &[f64], n: usize, dq: f64, speed: f64, count: usize) -> Vec<Vec<f64>> {
+    let mut rng = crate::formulation::test_rng::Lcg(0x5eed_2024);
+    (0..count)
+        .map(|_| {
+            let mut y = y0.to_vec();
+            for c in 0..n {
+                y[c] += rng.range(-dq, dq);
+                y[n + c] = rng.range(-speed, speed);
+            }
+            y
+        })
+        .collect()
+}
+
+#[test]
+fn augmented_form_of_the_fourbar_in_and_out_of_contact() -> Result<(), FormulationError> {
+    let d = dae("models/farahan2016.toml", false);
+    let n = d.n_coordinates();
+    for (k, y) in random_states(&d.initial_state(), n, 1e-4, 2.0, 5)
+        .iter()
+        .enumerate()
+    {
+        check_augmented(&d, 0.01, y, &format!("four-bar, random state {k}"))?;
+    }
+    check_augmented(
+        &d,
+        0.01,
+        &contact_state(&d, 2e-6, 0.7, 0.05, 0.3, 0.0),
+        "four-bar sliding",
+    )?;
+    check_augmented(
+        &d,
+        0.01,
+        &contact_state(&d, 3e-6, -1.2, 0.01, 5e-4, 0.1),
+        "four-bar in the friction ramp, stored 0.1 m/s",
+    )?;
+    let d = dae("models/farahan2016.toml", true);
+    check_augmented(
+        &d,
+        0.01,
+        &contact_state(&d, 2e-6, 2.5, -0.03, -0.4, 0.2),
+        "four-bar sliding, energy states",
+    )
+}
+
+#[test]
+fn augmented_form_of_the_gas_slider_crank() -> Result<(), FormulationError> {
+    let d = dae("models/slider_crank_gas.toml", false);
+    check_augmented(&d, 0.0, &d.initial_state(), "slider-crank, initial state")?;
+    let y = contact_state(&d, 2e-6, 0.3, 0.02, 0.2, 0.1);
+    check_augmented(&d, 0.003, &y, "slider-crank, sliding contact")
+}
+
+#[test]
+fn augmented_form_of_a_chain_with_force_elements() -> Result<(), FormulationError> {
+    // Three loops of the N-four-bar chain with a spring-damper across two loops and a torque
+    // law that reads a third body's speed and a fourth's angle: element couplings beyond the
+    // joints'.
+    let text = std::fs::read_to_string("models/nfourbar_chain.toml")
+        .unwrap_or_else(|e| panic!("models/nfourbar_chain.toml: {e}"));
+    let text = format!(
+        "{text}\n{}",
+        r#"
+[[forces]]
+name = "spring"
+type = "spring-damper"
+body_a = "link0"
+point_a = "T"
+body_b = "coupler3"
+point_b = "B"
+stiffness = 50.0
+damping = 2.0
+free_length = 1.5
+
+[[forces]]
+name = "brake"
+type = "torque"
+body = "link3"
+torque = "-0.5*coupler1.vx - 2*(link1.phi - 1)"
+"#
+    );
+    let model = crate::model::load_str(&text, "chain.toml", &["parameters.N=3".into()])
+        .unwrap_or_else(|e| panic!("chain: {e}"));
+    let d = Dae::new(&model, &DaeOptions::default()).unwrap_or_else(|e| panic!("chain: {e}"));
+    let n = d.n_coordinates();
+    for (k, y) in random_states(&d.initial_state(), n, 1e-3, 1.5, 5)
+        .iter()
+        .enumerate()
+    {
+        check_augmented(
+            &d,
+            0.2,
+            y,
+            &format!("chain of 3 with forces, random state {k}"),
+        )?;
+    }
+    Ok(())
+}
