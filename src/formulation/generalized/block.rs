@@ -31,18 +31,27 @@ pub enum BlockSolver {
 
 /// Number of dependent coordinates m from which [`BlockSolver::Auto`] takes the sparse LU.
 ///
-/// Measured (2026-11-27, release build, on the development machine of 2 cores while other
-/// builds ran on it) as the cost of one right-hand side of the generalised formulation on the
-/// N-loop chain `models/nfourbar_chain.toml` (m = 6N + 2), DOP853 at rtol 1e-8, total run time
-/// over RHS evaluations:
+/// Measured (2026-11-27, release build, on the 2-core development machine while other builds
+/// ran on it: load average 4–5) as the cost of one right-hand side of the generalised
+/// formulation on the N-loop chain `models/nfourbar_chain.toml` (m = 6N + 2 dependent
+/// coordinates, one degree of freedom), from a warm start 1 ms ahead along the motion (one
+/// Newton iteration, as at a stage), best of five batches:
 ///
-/// | N loops | m   | dense (µs) | sparse (µs) |
-/// |---------|-----|------------|-------------|
-/// | 1       | 8   | TODO       | TODO        |
+/// | N loops | m    | dense (µs) | sparse (µs) |
+/// |---------|------|------------|-------------|
+/// | 1       | 8    | 1.3        | 1.7         |
+/// | 2       | 14   | 3.0        | 3.3         |
+/// | 3       | 20   | 4.9        | 4.7         |
+/// | 4       | 26   | 7.4        | 5.6         |
+/// | 10      | 62   | 34         | 12          |
+/// | 40      | 242  | 480        | 48          |
+/// | 80      | 482  | 1 940      | 105         |
+/// | 200     | 1202 | —          | 260         |
 ///
-/// The dense LU wins while m is small (no pattern to follow, no permutations) and loses from
-/// m ≈ TODO on, where its m³ cost overtakes the sparse LU's overhead.
-pub const SPARSE_FROM: usize = 30;
+/// The dense LU wins while m is small (no pattern to follow, no permutations: small linkages
+/// such as the four-bar, m = 8 as in the first row), the two tie at m = 20, and from there on
+/// the dense m³/3 overtakes the sparse LU, whose cost stays linear in m.
+pub const SPARSE_FROM: usize = 20;
 
 /// One structural entry of Φ_qD.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
