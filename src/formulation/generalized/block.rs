@@ -88,11 +88,9 @@ impl Entry {
 #[derive(Debug, Clone)]
 enum Factors {
     /// Row-major m × m, then its LU in place.
-    Dense {
-        a: Vec<f64>,
-        piv: Vec<usize>,
-    },
-    Sparse(SparseLu),
+    Dense { a: Vec<f64>, piv: Vec<usize> },
+    /// Boxed: the sparse factors carry faer's structures (~370 bytes) beside two vectors.
+    Sparse(Box<SparseLu>),
 }
 
 /// Φ_qD of one partition and its factors (see the module documentation).
@@ -191,7 +189,7 @@ impl DependentBlock {
                 a: vec![0.0; m * m],
                 piv: vec![0; m],
             },
-            Factors::Sparse,
+            |lu| Factors::Sparse(Box::new(lu)),
         );
         self.partition = Some(dep.to_vec());
     }

@@ -38,25 +38,34 @@
 //! out of the error norm matters near a singular position, where their rates are 0/0 limits
 //! computed to a relative accuracy of ε/s only.
 //!
-//! **Partition and repartitioning.** Independent coordinates are those *not* chosen as pivot
-//! columns by Gaussian elimination with complete pivoting of the scaled Jacobian
+//! **Partition and repartitioning.** The first independent coordinates are those *not* chosen
+//! as pivot columns by Gaussian elimination with complete pivoting of the scaled Jacobian
 //! Φ̃_q = W Φ_q S⁻¹ (angles measured as arc lengths L·φ and angle rows as L·Φ, L the linkage's
-//! length scale, so that metres and radians compete fairly). Its pivot ratio ρ = |u_mm|/|u_11|
-//! estimates 1/cond of the dependent block Φ̃_qD. One event function,
+//! length scale, so that metres and radians compete fairly; O(m² n), once). From then on the
+//! partition is judged by the velocity transformation B it already has ([`partition`]):
+//! ρ(J) = |det N_J| is the part of the tangent space of the motion that a set J of f
+//! coordinates sees (N an orthonormal basis of the span of B̃ = S B S_I⁻¹), and where Φ_q has
+//! full rank the ratio of ρ between two partitions is the ratio of |det Φ̃_qD| of their
+//! dependent blocks. One event function,
 //!
 //! ```text
-//!     g_rep(t, y) = ρ(current dependent block) − τ ρ(best dependent block),   τ = 0.1
+//!     g_rep(t, y) = ρ(current independent set) − τ ρ(best set J*),   τ = 0.1,
 //! ```
 //!
-//! falls through zero when the current block has become ten times worse conditioned than the
-//! best available one. The event is located like an impact, the state is projected, the new
-//! partition written into y, and the integrator restarts there: the switch happens at one
-//! located instant and no step straddles two partitions. After the switch g_rep = (1 − τ)ρ > 0,
-//! so the factor 10 is also the hysteresis that keeps it from switching back and forth. Near a
-//! position where Φ_q itself loses rank (a parallelogram passing its flat position) every
-//! block is poor and g_rep stays positive: no repartition helps there, and none is made;
-//! Newton then works from the predictor on a block whose smallest pivot shrinks with the
-//! distance to the singular position, which keeps it on the branch the predictor is on.
+//! J* by complete pivoting of B̃ᵀ (f × n), costs O(n f²) and falls through zero when the best
+//! available block has a ten times larger |det| than the current one (for f = 1: some coordinate
+//! moves ten times faster, in scaled units, than the independent one). The event is located like
+//! an impact, the state is projected, J* written into y as the new partition, and the integrator
+//! restarts there: the switch happens at one located instant and no step straddles two
+//! partitions. After the switch g_rep = (1 − τ)ρ(J*) > 0, so the factor 10 is also the
+//! hysteresis that keeps it from switching back and forth. (Where the elimination of Φ̃_q and the
+//! volumes disagree at the start, the start takes J*, so that g_rep starts positive.) Near a
+//! position where Φ_q itself loses rank (a parallelogram passing its flat position) every block is
+//! singular, but B̃ stays bounded along the branch and g_rep stays positive: no repartition helps
+//! there, and none is made; Newton then works from the predictor on a block whose smallest pivot
+//! shrinks with the distance to the singular position, which keeps it on the branch the predictor
+//! is on. The dependent block is factored dense or sparse ([`block`]), the sparse pattern and
+//! ordering made once per partition.
 //!
 //! **Events.** Clearance joints first (index k = joint k's δ, exactly as the DAE), then the
 //! repartition event (index = number of clearance joints).
