@@ -824,7 +824,10 @@ impl Formulation for Generalized {
             self.evaluate_at_projection(t, &mut work);
             None
         };
-        self.dae.events(t, &work.y, &mut g[..nc]);
+        if nc > 0 {
+            // (The DAE's contact events allocate their sines and cosines: only with contacts.)
+            self.dae.events(t, &work.y, &mut g[..nc]);
+        }
         g[nc] = volumes.map_or(1.0 - REPARTITION_FACTOR, |v| {
             v.current - REPARTITION_FACTOR * v.best
         });
