@@ -130,7 +130,7 @@ impl DependentBlock {
     }
 
     /// Makes this the block of the partition whose dependent coordinates are `dep` (column
-    /// j ↔ coordinate dep[j]; `col_of` is the inverse, `usize::MAX` for independent ones):
+    /// j ↔ coordinate `dep[j]`; `col_of` is the inverse, `usize::MAX` for independent ones):
     /// nothing to do if the partition is the one already built, else the entries and (sparse)
     /// the symbolic analysis are made anew. `rows` is any evaluation of the constraint rows
     /// (only the bodies each row touches are read, which do not change).

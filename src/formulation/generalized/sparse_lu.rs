@@ -216,7 +216,9 @@ impl SparseLu {
         if n == 0 || ncols == 0 {
             return;
         }
+        // The callers size b as n × ncols; a shorter b solves the whole columns it holds.
         debug_assert!(b.len() >= n * ncols, "the caller sizes b as n × ncols");
+        let ncols = ncols.min(b.len() / n);
         let batch = self.max_rhs.max(1);
         let row_perm = PermRef::new_checked(&self.row_perm_fwd, &self.row_perm_inv, n);
         let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
