@@ -96,8 +96,8 @@ use block::DependentBlock;
 use partition::{VolumeWork, Volumes};
 use std::cell::RefCell;
 
-/// Repartition when the current dependent block's pivot ratio falls below this fraction of
-/// the best block's (see the module documentation).
+/// Repartition when the current independent coordinates' volume ρ falls below this fraction of
+/// the best set's (see the module documentation and [`partition`]).
 pub const REPARTITION_FACTOR: f64 = 0.1;
 
 /// Newton stops when every scaled residual |W Φ| is below this fraction of the length scale L
@@ -664,7 +664,8 @@ impl Generalized {
     }
 
     /// Pivot ratio of the current dependent block and of the best block, at the constraint
-    /// evaluation in `work`.
+    /// evaluation in `work`: two complete-pivoting eliminations, O(m² n), for the diagnosis of a
+    /// stalled run only (the repartition event uses [`Self::volumes`]).
     fn partition_quality(&self, work: &mut Work) -> (f64, f64) {
         let n = self.n_coordinates();
         let m = self.active.len();
@@ -864,7 +865,6 @@ impl Formulation for Generalized {
         // Φ̃_q where B is not available.
         let mut flags = vec![0.0; n];
         if projected && self.volumes(&mut w).is_some() {
-            flags.fill(0.0);
             for &c in &w.volume.best {
                 flags[c] = 1.0;
             }
