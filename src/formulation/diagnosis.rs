@@ -69,8 +69,9 @@ pub fn generalized(
 ) -> Option<String> {
     let mut found: Vec<String> = Vec::new();
     if let Some((current, best, independent)) = quality {
-        // The repartition event switches below a tenth of the best; report any block that is
-        // itself nearly singular or clearly worse than the best.
+        // Pivot ratios (≈ 1/cond) of the dependent blocks: report any block that is itself
+        // nearly singular or ten times worse conditioned than the best (the factor of the
+        // repartition event, which compares volumes of the blocks instead).
         if current < NEAR_SINGULAR || current < 0.1 * best {
             found.push(format!(
                 "the coordinate partition is ill-conditioned (independent coordinates {independent}; pivot ratio of the dependent block {current:.3e}, best available {best:.3e})"

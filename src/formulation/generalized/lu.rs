@@ -16,6 +16,9 @@
 pub struct PivotQuality {
     /// |last pivot| / |first pivot| (0 for a matrix of lower rank or all zero; 1 when m = 0).
     pub ratio: f64,
+    /// Product of the |pivots|: |det| of the chosen m × m block (0 for a matrix of lower rank;
+    /// 1 when m = 0).
+    pub volume: f64,
 }
 
 /// Gaussian elimination with complete pivoting of the m × c matrix `a` (row-major, destroyed).
@@ -30,13 +33,17 @@ pub fn complete_pivoting(
 ) -> PivotQuality {
     debug_assert!(a.len() >= m * c && m <= c && col_perm.len() >= c && cols.len() >= m);
     if m == 0 {
-        return PivotQuality { ratio: 1.0 };
+        return PivotQuality {
+            ratio: 1.0,
+            volume: 1.0,
+        };
     }
     for (j, p) in col_perm.iter_mut().enumerate().take(c) {
         *p = j;
     }
     let mut first = 0.0_f64;
     let mut last = 0.0_f64;
+    let mut volume = 1.0_f64;
     for k in 0..m {
         // Largest remaining entry (rows k.., columns k.. of the permuted matrix).
         let (mut bi, mut bj, mut best) = (k, k, -1.0_f64);
@@ -53,12 +60,16 @@ pub fn complete_pivoting(
             first = best;
         }
         last = best;
+        volume *= best;
         if best.is_nan() || best <= 0.0 {
             // Rank below m (or NaN): fill the remaining choices in order.
             for (slot, &p) in cols.iter_mut().zip(col_perm.iter()).skip(k).take(m - k) {
                 *slot = p;
             }
-            return PivotQuality { ratio: 0.0 };
+            return PivotQuality {
+                ratio: 0.0,
+                volume: 0.0,
+            };
         }
         if bi != k {
             for j in 0..c {
@@ -81,6 +92,7 @@ pub fn complete_pivoting(
     }
     PivotQuality {
         ratio: if first > 0.0 { last / first } else { 0.0 },
+        volume,
     }
 }
 
@@ -182,9 +194,14 @@ mod tests {
         sorted.sort_unstable();
         assert!(!(sorted.contains(&0) && sorted.contains(&1)), "{cols:?}");
         assert!(q.ratio > 0.0 && q.ratio <= 1.0, "{q:?}");
+        // |det| of the chosen block is the product of the pivots: greedy takes 3 (column 3),
+        // then 2 (column 1), then 1 (column 2), and |det| of columns 1, 2, 3 is 3·(2·1 − 0·1)
+        // = 6, the largest of any three columns (columns 0, 2, 3 give 3).
+        assert!((q.volume - 6.0).abs() < 1e-12, "{q:?}");
         // Rank 1: the second pivot is zero.
         let mut b = [1.0, 2.0, 2.0, 4.0];
         let q = complete_pivoting(&mut b, 2, 2, &mut cols, &mut perm);
         assert_eq!(q.ratio, 0.0);
+        assert_eq!(q.volume, 0.0);
     }
 }

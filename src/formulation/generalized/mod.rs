@@ -38,25 +38,34 @@
 //! out of the error norm matters near a singular position, where their rates are 0/0 limits
 //! computed to a relative accuracy of ε/s only.
 //!
-//! **Partition and repartitioning.** Independent coordinates are those *not* chosen as pivot
-//! columns by Gaussian elimination with complete pivoting of the scaled Jacobian
+//! **Partition and repartitioning.** The first independent coordinates are those *not* chosen
+//! as pivot columns by Gaussian elimination with complete pivoting of the scaled Jacobian
 //! Φ̃_q = W Φ_q S⁻¹ (angles measured as arc lengths L·φ and angle rows as L·Φ, L the linkage's
-//! length scale, so that metres and radians compete fairly). Its pivot ratio ρ = |u_mm|/|u_11|
-//! estimates 1/cond of the dependent block Φ̃_qD. One event function,
+//! length scale, so that metres and radians compete fairly; O(m² n), once). From then on the
+//! partition is judged by the velocity transformation B it already has ([`partition`]):
+//! ρ(J) = |det N_J| is the part of the tangent space of the motion that a set J of f
+//! coordinates sees (N an orthonormal basis of the span of B̃ = S B S_I⁻¹), and where Φ_q has
+//! full rank the ratio of ρ between two partitions is the ratio of |det Φ̃_qD| of their
+//! dependent blocks. One event function,
 //!
 //! ```text
-//!     g_rep(t, y) = ρ(current dependent block) − τ ρ(best dependent block),   τ = 0.1
+//!     g_rep(t, y) = ρ(current independent set) − τ ρ(best set J*),   τ = 0.1,
 //! ```
 //!
-//! falls through zero when the current block has become ten times worse conditioned than the
-//! best available one. The event is located like an impact, the state is projected, the new
-//! partition written into y, and the integrator restarts there: the switch happens at one
-//! located instant and no step straddles two partitions. After the switch g_rep = (1 − τ)ρ > 0,
-//! so the factor 10 is also the hysteresis that keeps it from switching back and forth. Near a
-//! position where Φ_q itself loses rank (a parallelogram passing its flat position) every
-//! block is poor and g_rep stays positive: no repartition helps there, and none is made;
-//! Newton then works from the predictor on a block whose smallest pivot shrinks with the
-//! distance to the singular position, which keeps it on the branch the predictor is on.
+//! J* by complete pivoting of B̃ᵀ (f × n), costs O(n f²) and falls through zero when the best
+//! available block has a ten times larger |det| than the current one (for f = 1: some coordinate
+//! moves ten times faster, in scaled units, than the independent one). The event is located like
+//! an impact, the state is projected, J* written into y as the new partition, and the integrator
+//! restarts there: the switch happens at one located instant and no step straddles two
+//! partitions. After the switch g_rep = (1 − τ)ρ(J*) > 0, so the factor 10 is also the
+//! hysteresis that keeps it from switching back and forth. (Where the elimination of Φ̃_q and the
+//! volumes disagree at the start, the start takes J*, so that g_rep starts positive.) Near a
+//! position where Φ_q itself loses rank (a parallelogram passing its flat position) every block is
+//! singular, but B̃ stays bounded along the branch and g_rep stays positive: no repartition helps
+//! there, and none is made; Newton then works from the predictor on a block whose smallest pivot
+//! shrinks with the distance to the singular position, which keeps it on the branch the predictor
+//! is on. The dependent block is factored dense or sparse ([`block`]), the sparse pattern and
+//! ordering made once per partition.
 //!
 //! **Events.** Clearance joints first (index k = joint k's δ, exactly as the DAE), then the
 //! repartition event (index = number of clearance joints).
@@ -70,7 +79,12 @@
 //! 3. J. García de Jalón, E. Bayo, *Kinematic and Dynamic Simulation of Multibody Systems: the
 //!    Real-Time Challenge*, Springer, 1994, §6.5 (velocity transformations, Maggi's equations).
 
+pub mod block;
 pub mod lu;
+pub mod partition;
+pub mod sparse_lu;
+
+pub use block::BlockSolver;
 
 use super::contacts::ContactSites;
 use super::dae::{Dae, DaeOptions};
@@ -78,10 +92,12 @@ use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
 use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet};
 use crate::model::{Baumgarte, Model};
+use block::DependentBlock;
+use partition::{VolumeWork, Volumes};
 use std::cell::RefCell;
 
-/// Repartition when the current dependent block's pivot ratio falls below this fraction of
-/// the best block's (see the module documentation).
+/// Repartition when the current independent coordinates' volume ρ falls below this fraction of
+/// the best set's (see the module documentation and [`partition`]).
 pub const REPARTITION_FACTOR: f64 = 0.1;
 
 /// Newton stops when every scaled residual |W Φ| is below this fraction of the length scale L
@@ -108,14 +124,15 @@ fn independent_flag(flag: f64) -> bool {
 struct Work {
     sin_cos: Vec<(f64, f64)>,
     eval: ConstraintEval,
-    /// Dependent block Φ_qD (m × m, row-major), then its LU factors.
-    block: Vec<f64>,
-    piv: Vec<usize>,
+    /// Dependent block Φ_qD of the partition in use and its LU factors.
+    block: DependentBlock,
     rhs: Vec<f64>,
     /// Coordinate index of dependent column j.
     dep: Vec<usize>,
     /// Dependent column of each coordinate (usize::MAX = independent).
     col_of: Vec<usize>,
+    /// Index among the independent coordinates of each coordinate (usize::MAX = dependent).
+    indep_of: Vec<usize>,
     /// Scaled full Jacobian (m × n) for the partition choice.
     full: Vec<f64>,
     cols: Vec<usize>,
@@ -125,10 +142,11 @@ struct Work {
     dy: Vec<f64>,
     /// Independent coordinates.
     indep: Vec<usize>,
-    /// B_D (m × f, row-major): −Φ_qD⁻¹ Φ_qI.
-    b_dep: Vec<f64>,
-    /// c_D = Φ_qD⁻¹ γ (m).
-    c_dep: Vec<f64>,
+    /// m × (f + 1), column after column: B_D = −Φ_qD⁻¹ Φ_qI (column k for independent
+    /// coordinate k), then c_D = Φ_qD⁻¹ γ.
+    basis: Vec<f64>,
+    /// B̃ᵀ and scratch of the partition's volumes ([`partition`]).
+    volume: VolumeWork,
     /// Generalised forces Q (n).
     forces: Vec<f64>,
     /// Reduced mass matrix Bᵀ M B (f × f) and its right-hand side.
@@ -179,7 +197,8 @@ impl Generalized {
             ..*options
         };
         let dae = Dae::new(model, &dae_options)?;
-        let constraints = dae.constraints().clone();
+        // Φ with the rounding of the arms, not of the coordinates: see the method's note.
+        let constraints = dae.constraints().clone().with_centre_differences();
         let active = dae.active_rows().to_vec();
         let length_scale = dae.length_scale();
         let row_weight = active.iter().map(|&k| dae.row_length_weight(k)).collect();
@@ -197,19 +216,19 @@ impl Generalized {
             work: RefCell::new(Work {
                 sin_cos: vec![(0.0, 1.0); nb],
                 eval: ConstraintEval::with_rows(constraints.n_rows()),
-                block: vec![0.0; m * m],
-                piv: vec![0; m],
+                block: DependentBlock::new(m, BlockSolver::default(), n - m + 1),
                 rhs: vec![0.0; m],
                 dep: vec![0; m],
                 col_of: vec![usize::MAX; n],
+                indep_of: vec![usize::MAX; n],
                 full: vec![0.0; m * n],
                 cols: vec![0; m],
                 col_perm: vec![0; n],
                 y: vec![0.0; n_dae],
                 dy: vec![0.0; n_dae],
                 indep: vec![0; n - m],
-                b_dep: vec![0.0; m * (n - m)],
-                c_dep: vec![0.0; m],
+                basis: vec![0.0; m * (n - m + 1)],
+                volume: VolumeWork::new(n - m, n),
                 forces: vec![0.0; n],
                 reduced: vec![0.0; (n - m) * (n - m)],
                 reduced_piv: vec![0; n - m],
@@ -234,6 +253,22 @@ impl Generalized {
             max_step_violation: 0.0,
             repartitions: 0,
         })
+    }
+
+    /// The same formulation with the dependent block factored as `solver` says (default
+    /// [`BlockSolver::Auto`]: dense LU for small linkages, sparse from
+    /// [`block::SPARSE_FROM`] dependent coordinates on). The results agree to round-off; only
+    /// the cost differs.
+    #[must_use]
+    pub fn with_block_solver(self, solver: BlockSolver) -> Self {
+        let (m, f) = (self.active.len(), self.n_indep);
+        self.work.borrow_mut().block = DependentBlock::new(m, solver, f + 1);
+        self
+    }
+
+    /// Whether the dependent block of the partition last used is factored by the sparse LU.
+    pub fn uses_sparse_lu(&self) -> bool {
+        self.work.borrow().block.is_sparse()
     }
 
     /// The underlying DAE (Baumgarte off), whose outputs and contact laws this formulation uses.
@@ -279,6 +314,20 @@ impl Generalized {
     /// Index in y of the partition flags.
     fn flags_start(&self) -> usize {
         2 * self.n_indep + self.n_dae
+    }
+
+    /// z and ż in y: the entries of the DAE state `dae_state` (q, q̇, …) at the independent
+    /// coordinates of the partition stored in y.
+    fn write_independent(&self, dae_state: &[f64], y: &mut [f64]) {
+        let (f, n, flags) = (self.n_indep, self.n_coordinates(), self.flags_start());
+        let mut k = 0;
+        for c in 0..n {
+            if independent_flag(y[flags + c]) && k < f {
+                y[k] = dae_state[c];
+                y[f + k] = dae_state[n + c];
+                k += 1;
+            }
+        }
     }
 
     /// Writes the DAE state in `work.y` back into y: its z, ż and the bookkeeping copy.
@@ -340,24 +389,6 @@ impl Generalized {
         worst
     }
 
-    /// Fills `work.block` with Φ_qD (unscaled) at the last evaluation.
-    fn fill_block(&self, work: &mut Work) {
-        let m = self.active.len();
-        work.block.fill(0.0);
-        for (i, &k) in self.active.iter().enumerate() {
-            let row = work.eval.rows[k];
-            for (body, jac) in [(row.body_a, row.jac_a), (row.body_b, row.jac_b)] {
-                let Some(b) = body else { continue };
-                for (c, value) in jac.iter().enumerate() {
-                    let j = work.col_of[3 * b + c];
-                    if j != usize::MAX {
-                        work.block[i * m + j] += value;
-                    }
-                }
-            }
-        }
-    }
-
     /// Projects y onto the constraints into `work.y` (see the module documentation).
     fn project_into(&self, t: f64, y: &[f64], work: &mut Work) -> Result<(), FormulationError> {
         let n = self.n_coordinates();
@@ -374,9 +405,11 @@ impl Generalized {
                 }
                 work.dep[j] = c;
                 work.col_of[c] = j;
+                work.indep_of[c] = usize::MAX;
                 j += 1;
             } else {
                 work.col_of[c] = usize::MAX;
+                work.indep_of[c] = k;
                 if k < n - m {
                     work.indep[k] = c;
                 }
@@ -400,9 +433,18 @@ impl Generalized {
         // Newton on the dependent positions, from the stored (predicted) ones.
         loop {
             self.evaluate_at_projection(t, work);
+            if iterations == 0 {
+                // The pattern only changes with the partition (a no-op otherwise).
+                work.block.set_partition(
+                    &work.dep,
+                    &work.col_of,
+                    &work.eval.rows,
+                    &self.active,
+                    &self.constraints,
+                );
+            }
             let (residual, worst) = self.scaled_residual(work);
-            self.fill_block(work);
-            let factored = lu::factor(&mut work.block, m, &mut work.piv);
+            let factored = work.block.factor(&work.eval.rows);
             if residual <= tolerance {
                 if let Err(pivot) = factored {
                     return Err(self.singular(t, pivot));
@@ -423,7 +465,7 @@ impl Generalized {
             for (i, &k) in self.active.iter().enumerate() {
                 work.rhs[i] = work.eval.phi[k];
             }
-            lu::solve(&work.block, m, &work.piv, &mut work.rhs);
+            work.block.solve(&mut work.rhs);
             for (jj, &c) in work.dep.iter().enumerate() {
                 work.y[c] -= work.rhs[jj];
             }
@@ -436,7 +478,7 @@ impl Generalized {
             let v = &work.y[n..2 * n];
             work.rhs[i] = -(work.eval.rows[k].dot_velocity(v) + work.eval.phi_t[k]);
         }
-        lu::solve(&work.block, m, &work.piv, &mut work.rhs);
+        work.block.solve(&mut work.rhs);
         for (jj, &c) in work.dep.iter().enumerate() {
             work.y[n + c] = work.rhs[jj];
         }
@@ -487,29 +529,9 @@ impl Generalized {
                 |j| self.dae.model().joint(j).name.clone(),
             )?;
         }
-        // B_D column by column: Φ_qD b = −Φ_q e_k for each independent coordinate k.
-        for (kk, &c) in work.indep.iter().enumerate() {
-            work.rhs.fill(0.0);
-            let (body, comp) = (c / 3, c % 3);
-            for (i, &row) in self.active.iter().enumerate() {
-                let r = &work.eval.rows[row];
-                if r.body_a == Some(body) {
-                    work.rhs[i] -= r.jac_a[comp];
-                }
-                if r.body_b == Some(body) {
-                    work.rhs[i] -= r.jac_b[comp];
-                }
-            }
-            lu::solve(&work.block, m, &work.piv, &mut work.rhs);
-            for i in 0..m {
-                work.b_dep[i * f + kk] = work.rhs[i];
-            }
-        }
-        for (i, &row) in self.active.iter().enumerate() {
-            work.c_dep[i] = work.eval.gamma[row];
-        }
-        lu::solve(&work.block, m, &work.piv, &mut work.c_dep);
-        // Bᵀ M B and Bᵀ (Q − M c).
+        self.basis_into(work, f + 1);
+        let (b_dep, c_dep) = work.basis.split_at(m * f);
+        // Bᵀ M B and Bᵀ (Q − M c): O(m f²).
         work.reduced.fill(0.0);
         for (kk, &c) in work.indep.iter().enumerate() {
             work.reduced[kk * f + kk] = self.mass[c];
@@ -517,12 +539,12 @@ impl Generalized {
         }
         for (i, &c) in work.dep.iter().enumerate() {
             let mass = self.mass[c];
-            let load = work.forces[c] - mass * work.c_dep[i];
-            let row = &work.b_dep[i * f..i * f + f];
+            let load = work.forces[c] - mass * c_dep[i];
             for a in 0..f {
-                work.reduced_rhs[a] += row[a] * load;
+                let b_a = b_dep[a * m + i];
+                work.reduced_rhs[a] += b_a * load;
                 for b in 0..f {
-                    work.reduced[a * f + b] += row[a] * mass * row[b];
+                    work.reduced[a * f + b] += b_a * mass * b_dep[b * m + i];
                 }
             }
         }
@@ -538,12 +560,12 @@ impl Generalized {
             acc[c] = work.reduced_rhs[kk];
         }
         for (i, &c) in work.dep.iter().enumerate() {
-            let row = &work.b_dep[i * f..i * f + f];
-            acc[c] = work.c_dep[i]
-                + row
+            acc[c] = c_dep[i]
+                + work
+                    .reduced_rhs
                     .iter()
-                    .zip(&work.reduced_rhs)
-                    .map(|(b, a)| b * a)
+                    .enumerate()
+                    .map(|(a, z)| b_dep[a * m + i] * z)
                     .sum::<f64>();
         }
         for (i, body) in self.dae.model().bodies.iter().enumerate() {
@@ -556,6 +578,69 @@ impl Generalized {
             }
         }
         Ok(())
+    }
+
+    /// The first `ncols` columns of `work.basis` at the projection in `work`, with Φ_qD's
+    /// factors from it: B_D's f columns (Φ_qD b = −Φ_q e_k for each independent coordinate k),
+    /// then, for ncols = f + 1, c_D (Φ_qD c = γ). All columns in one pass over the factors.
+    fn basis_into(&self, work: &mut Work, ncols: usize) {
+        let m = self.active.len();
+        let f = self.n_indep;
+        let Work {
+            basis,
+            eval,
+            indep_of,
+            block,
+            ..
+        } = work;
+        let basis = &mut basis[..m * ncols];
+        basis.fill(0.0);
+        for (i, &row) in self.active.iter().enumerate() {
+            let r = &eval.rows[row];
+            for (body, jac) in r.blocks() {
+                let Some(b) = body else { continue };
+                for (comp, value) in jac.iter().enumerate() {
+                    let k = indep_of[3 * b + comp];
+                    if k < ncols.min(f) {
+                        basis[k * m + i] -= value;
+                    }
+                }
+            }
+            if ncols > f {
+                basis[f * m + i] = eval.gamma[row];
+            }
+        }
+        block.solve_columns(basis, ncols);
+    }
+
+    /// ρ of the current partition and of the best set of independent coordinates (into
+    /// `work.volume.best`), from B at the projection in `work` ([`partition`]). `None` where
+    /// B is not finite.
+    fn volumes(&self, work: &mut Work) -> Option<Volumes> {
+        let (m, f, n) = (self.active.len(), self.n_indep, self.n_coordinates());
+        if f == 0 {
+            return partition::volumes(&mut work.volume, 0, n);
+        }
+        self.basis_into(work, f);
+        // B̃ = S B S_I⁻¹ (angles as arc lengths): B̃_ck = S_c B_ck / S_k.
+        let scale = |c: usize| if c % 3 == 2 { self.length_scale } else { 1.0 };
+        let Work {
+            basis,
+            volume,
+            dep,
+            indep,
+            ..
+        } = work;
+        for (k, &ck) in indep.iter().enumerate() {
+            let row = &mut volume.bt[k * n..k * n + n];
+            row.fill(0.0);
+            row[ck] = 1.0;
+            let to = 1.0 / scale(ck);
+            for (i, &c) in dep.iter().enumerate() {
+                row[c] = scale(c) * basis[k * m + i] * to;
+            }
+        }
+        partition::volumes(&mut work.volume, f, n)
     }
 
     fn bad_partition(&self, dependent: usize) -> FormulationError {
@@ -579,7 +664,8 @@ impl Generalized {
     }
 
     /// Pivot ratio of the current dependent block and of the best block, at the constraint
-    /// evaluation in `work`.
+    /// evaluation in `work`: two complete-pivoting eliminations, O(m² n), for the diagnosis of a
+    /// stalled run only (the repartition event uses [`Self::volumes`]).
     fn partition_quality(&self, work: &mut Work) -> (f64, f64) {
         let n = self.n_coordinates();
         let m = self.active.len();
@@ -663,13 +749,19 @@ impl Formulation for Generalized {
         work.y.copy_from_slice(&dae_state);
         self.evaluate_at_projection(self.dae.t0(), &mut work);
         self.best_partition(&mut work, &mut y[flags..flags + n]);
-        let mut k = 0;
-        for c in 0..n {
-            if independent_flag(y[flags + c]) && k < self.n_indep {
-                y[k] = dae_state[c];
-                y[self.n_indep + k] = dae_state[n + c];
-                k += 1;
+        self.write_independent(&dae_state, &mut y);
+        // Greedy elimination of Φ̃_q and the volumes of B can disagree on the best set; start
+        // on the side of the repartition event where no switch is due, or the first crossing
+        // would never come.
+        if self.project_into(self.dae.t0(), &y, &mut work).is_ok()
+            && let Some(v) = self.volumes(&mut work)
+            && v.current < REPARTITION_FACTOR * v.best
+        {
+            y[flags..flags + n].fill(0.0);
+            for &c in &work.volume.best {
+                y[flags + c] = 1.0;
             }
+            self.write_independent(&dae_state, &mut y);
         }
         y
     }
@@ -715,19 +807,31 @@ impl Formulation for Generalized {
         self.dae.n_events() + 1
     }
 
+    /// The DAE's events at the projected state, then g_rep = ρ(I) − τ ρ(J*).
+    ///
+    /// Where the projection fails (the integrator's own rhs call reports it), the DAE's events
+    /// are evaluated at the stored, unprojected state and g_rep takes its value just after a
+    /// switch, (1 − τ): a dependent block singular to working precision is either at a position
+    /// where Φ_q itself loses rank (no repartition helps there) or one that g_rep has announced
+    /// already (ρ(I) falls like 1/|B̃| while B̃ grows without bound towards it).
     fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
         let nc = self.dae.n_events();
         let mut work = self.work.borrow_mut();
-        if self.project_into(t, y, &mut work).is_err() {
-            // A failed projection is reported by the integrator's own rhs call; keep the
-            // event functions defined (unprojected) meanwhile.
+        let volumes = if self.project_into(t, y, &mut work).is_ok() {
+            self.volumes(&mut work)
+        } else {
             let start = self.dae_start();
             work.y.copy_from_slice(&y[start..start + self.n_dae]);
             self.evaluate_at_projection(t, &mut work);
+            None
+        };
+        if nc > 0 {
+            // (The DAE's contact events allocate their sines and cosines: only with contacts.)
+            self.dae.events(t, &work.y, &mut g[..nc]);
         }
-        self.dae.events(t, &work.y, &mut g[..nc]);
-        let (current, best) = self.partition_quality(&mut work);
-        g[nc] = current - REPARTITION_FACTOR * best;
+        g[nc] = volumes.map_or(1.0 - REPARTITION_FACTOR, |v| {
+            v.current - REPARTITION_FACTOR * v.best
+        });
     }
 
     /// A clearance joint's event as in the DAE, at the projected state; the repartition event
@@ -740,10 +844,11 @@ impl Formulation for Generalized {
         crossing: Crossing,
     ) -> EventResponse {
         let nc = self.dae.n_events();
-        let (n, f) = (self.n_coordinates(), self.n_indep);
+        let n = self.n_coordinates();
         let (start, flags_at) = (self.dae_start(), self.flags_start());
         let mut w = self.work.borrow_mut();
-        if self.project_into(t, y, &mut w).is_ok() {
+        let projected = self.project_into(t, y, &mut w).is_ok();
+        if projected {
             self.store(&w, y);
         }
         if index < nc {
@@ -756,10 +861,18 @@ impl Formulation for Generalized {
         if crossing != Crossing::Falling {
             return EventResponse::Continue;
         }
-        w.y.copy_from_slice(&y[start..start + self.n_dae]);
-        self.evaluate_at_projection(t, &mut w);
+        // The best set J* of the volumes g_rep compares with; the dense complete pivoting of
+        // Φ̃_q where B is not available.
         let mut flags = vec![0.0; n];
-        self.best_partition(&mut w, &mut flags);
+        if projected && self.volumes(&mut w).is_some() {
+            for &c in &w.volume.best {
+                flags[c] = 1.0;
+            }
+        } else {
+            w.y.copy_from_slice(&y[start..start + self.n_dae]);
+            self.evaluate_at_projection(t, &mut w);
+            self.best_partition(&mut w, &mut flags);
+        }
         let unchanged = flags
             .iter()
             .zip(&y[flags_at..flags_at + n])
@@ -769,14 +882,7 @@ impl Formulation for Generalized {
         }
         y[flags_at..flags_at + n].copy_from_slice(&flags);
         self.repartitions += 1;
-        let mut k = 0;
-        for (c, &flag) in flags.iter().enumerate() {
-            if independent_flag(flag) && k < f {
-                y[k] = w.y[c];
-                y[f + k] = w.y[n + c];
-                k += 1;
-            }
-        }
+        self.write_independent(&w.y, y);
         EventResponse::Restart
     }
 
@@ -857,8 +963,9 @@ impl Outputs for Generalized {
     /// The DAE's outputs at the projected state (reactions from the multipliers without
     /// Baumgarte terms); returns the |Φ| left by the projection.
     fn outputs_into(&self, t: f64, y: &[f64], out: &mut Vec<f64>) -> Result<f64, FormulationError> {
-        let projected = self.project(t, y)?;
-        self.dae.outputs_into(t, &projected, out)
+        let mut work = self.work.borrow_mut();
+        self.project_into(t, y, &mut work)?;
+        self.dae.outputs_into(t, &work.y, out)
     }
 
     fn step_constraint_violation(&self) -> f64 {
