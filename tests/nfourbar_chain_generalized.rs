@@ -8,77 +8,21 @@
 //! Exact motion: every link turns by the same angle θ and every coupler translates, so the chain
 //! is the pendulum J θ̈ = −G cos θ with J = (N+1) m L²/3 + N m L², G = g ((N+1) m L/2 + N m L),
 //! θ(0) = π/2, θ̇(0) = 1 rad/s, and the tip of the first link is (L cos θ, L sin θ). It is
-//! integrated here by the classical Runge–Kutta method with a fixed step of 0.1 ms and Kahan
-//! summation of θ and θ̇ (2e5 additions to θ ≈ 65 rad would otherwise round off ~1e-10 rad); its
-//! own error, O(h⁴), is checked by halving the step.
+//! integrated by the classical Runge–Kutta method with a fixed step of 0.1 ms and Kahan
+//! summation of θ and θ̇ (`common/chain.rs`); its own error, O(h⁴), is checked here by halving
+//! the step.
 
 mod common;
+use common::chain::{ROD_LENGTH, flat_passages as passages, theta_exact as reference};
 use common::*;
 use linkdyn::formulation::generalized::BlockSolver;
 use linkdyn::formulation::{DaeOptions, Formulation, Generalized};
 use linkdyn::solve::{Method, Recorder, SolverOptions, integrate};
-use std::f64::consts::{FRAC_PI_2, PI};
 
 const MODEL: &str = "models/nfourbar_chain.toml";
-/// Link length (m), mass of every rod (kg), gravity (m/s²), as in the model file.
-const L: f64 = 1.0;
-const M: f64 = 1.0;
-const G: f64 = 9.81;
-const OMEGA0: f64 = 1.0;
+const L: f64 = ROD_LENGTH;
 const T_END: f64 = 20.0;
 const DT: f64 = 0.05;
-
-/// θ at the times `ts` (increasing) for a chain of `loops`, by RK4 with step h and Kahan
-/// summation.
-fn reference(loops: usize, ts: &[f64], h: f64) -> Vec<f64> {
-    let n = loops as f64;
-    let j = (n + 1.0) * M * L * L / 3.0 + n * M * L * L;
-    let g = G * ((n + 1.0) * M * L / 2.0 + n * M * L);
-    let f = |th: f64, w: f64| (w, -g / j * th.cos());
-    let kahan = |sum: &mut f64, comp: &mut f64, x: f64| {
-        let y = x - *comp;
-        let s = *sum + y;
-        *comp = (s - *sum) - y;
-        *sum = s;
-    };
-    let (mut th, mut w, mut c_th, mut c_w) = (FRAC_PI_2, OMEGA0, 0.0, 0.0);
-    let (mut t, mut steps) = (0.0, 0u64);
-    let mut out = Vec::with_capacity(ts.len());
-    for &target in ts {
-        while t < target - 1e-15 {
-            let next = ((steps + 1) as f64 * h).min(target);
-            let hh = next - t;
-            let k1 = f(th, w);
-            let k2 = f(th + 0.5 * hh * k1.0, w + 0.5 * hh * k1.1);
-            let k3 = f(th + 0.5 * hh * k2.0, w + 0.5 * hh * k2.1);
-            let k4 = f(th + hh * k3.0, w + hh * k3.1);
-            kahan(
-                &mut th,
-                &mut c_th,
-                hh / 6.0 * (k1.0 + 2.0 * (k2.0 + k3.0) + k4.0),
-            );
-            kahan(
-                &mut w,
-                &mut c_w,
-                hh / 6.0 * (k1.1 + 2.0 * (k2.1 + k3.1) + k4.1),
-            );
-            t = next;
-            if next == (steps + 1) as f64 * h {
-                steps += 1;
-            }
-        }
-        out.push(th);
-    }
-    out
-}
-
-/// Flat positions (θ a multiple of π) passed between consecutive samples of θ.
-fn passages(theta: &[f64]) -> usize {
-    theta
-        .windows(2)
-        .filter(|w| (w[0] / PI).floor() != (w[1] / PI).floor())
-        .count()
-}
 
 fn run(loops: usize, rtol: f64, atol: f64) -> (Recorder, bool) {
     let model = load(MODEL, &[&format!("parameters.N={loops}")]);
