@@ -49,7 +49,7 @@
 use super::{Dae, sin_cos_of};
 use crate::formulation::FormulationError;
 use crate::formulation::contact_slopes::{Direction, LawSlopes};
-use crate::mechanics::constraints::{ConstraintEval, RowCurvature};
+use crate::mechanics::constraints::{ConstraintEval, ConstraintRow, RowCurvature};
 use crate::mechanics::planar::{cross, perp};
 use crate::model::{Baumgarte, Frame};
 
@@ -102,7 +102,6 @@ impl Dae {
         self.constraints
             .curvature_into(q, v, &sin_cos, &mut curvature);
         let ma = self.active.len();
-        let Baumgarte { alpha, beta } = self.baumgarte;
         let acc = &eval.acceleration;
         // Per active row i, dense over the n coordinates: Φ_q, H q̈, ∂c/∂q, ∂c/∂q̇.
         let mut jac = vec![0.0; ma * n];
@@ -111,34 +110,15 @@ impl Dae {
         // Σ_k λ_k H_k (n × n).
         let mut lambda_h = vec![0.0; n * n];
         for (i, &k) in self.active.iter().enumerate() {
-            let row = &ce.rows[k];
-            let cols = local_columns(row.body_a, row.body_b);
-            let local = |w: &[f64]| {
-                let mut out = [0.0; 6];
-                for (l, c) in cols.iter().enumerate() {
-                    if let Some(c) = c {
-                        out[l] = w[*c];
-                    }
-                }
-                out
-            };
-            let (acc_l, v_l) = (local(acc), local(v));
+            let terms = row_terms(&ce.rows[k], &curvature[k], acc, v, self.baumgarte);
             let h = &curvature[k].hessian;
             let lambda = eval.lambda[k];
-            for (l, cl) in cols.iter().enumerate() {
+            for (l, cl) in terms.cols.iter().enumerate() {
                 let Some(cl) = *cl else { continue };
-                let jac_l = if l < 3 {
-                    row.jac_a[l]
-                } else {
-                    row.jac_b[l - 3]
-                };
-                let h_acc: f64 = (0..6).map(|p| h[l][p] * acc_l[p]).sum();
-                let h_v: f64 = (0..6).map(|p| h[l][p] * v_l[p]).sum();
-                jac[i * n + cl] += jac_l;
-                c_q[i * n + cl] +=
-                    curvature[k].gamma_q[l] - 2.0 * alpha * h_v - beta * beta * jac_l - h_acc;
-                c_v[i * n + cl] += curvature[k].gamma_v[l] - 2.0 * alpha * jac_l;
-                for (p, cp) in cols.iter().enumerate() {
+                jac[i * n + cl] += terms.jac[l];
+                c_q[i * n + cl] += terms.c_q[l];
+                c_v[i * n + cl] += terms.c_v[l];
+                for (p, cp) in terms.cols.iter().enumerate() {
                     if let Some(cp) = cp {
                         lambda_h[cl * n + cp] += lambda * h[l][p];
                     }
@@ -354,6 +334,59 @@ pub(super) fn local_columns(a: Option<usize>, b: Option<usize>) -> [Option<usize
         }
     }
     cols
+}
+
+/// One active constraint row's terms over its six local columns ([`local_columns`], `None`
+/// where a side is the ground): Φ_q, ∂c/∂q = ∂γ/∂q − 2α H q̇ − β² Φ_q − H q̈ and
+/// ∂c/∂q̇ = ∂γ/∂q̇ − 2α Φ_q (module documentation), the same for the dense Jacobian and the
+/// sparse augmented one (`dae/sparse_jacobian.rs`).
+pub(super) struct RowTerms {
+    pub cols: [Option<usize>; 6],
+    pub jac: [f64; 6],
+    pub c_q: [f64; 6],
+    pub c_v: [f64; 6],
+}
+
+/// [`RowTerms`] of `row` with curvature `curvature`, at the accelerations `acc` and speeds `v`
+/// (over all coordinates).
+pub(super) fn row_terms(
+    row: &ConstraintRow,
+    curvature: &RowCurvature,
+    acc: &[f64],
+    v: &[f64],
+    Baumgarte { alpha, beta }: Baumgarte,
+) -> RowTerms {
+    let cols = local_columns(row.body_a, row.body_b);
+    let local = |w: &[f64]| {
+        let mut out = [0.0; 6];
+        for (l, c) in cols.iter().enumerate() {
+            if let Some(c) = c {
+                out[l] = w[*c];
+            }
+        }
+        out
+    };
+    let (acc_l, v_l) = (local(acc), local(v));
+    let h = &curvature.hessian;
+    let mut terms = RowTerms {
+        cols,
+        jac: [0.0; 6],
+        c_q: [0.0; 6],
+        c_v: [0.0; 6],
+    };
+    for l in 0..6 {
+        let jac_l = if l < 3 {
+            row.jac_a[l]
+        } else {
+            row.jac_b[l - 3]
+        };
+        let h_acc: f64 = (0..6).map(|p| h[l][p] * acc_l[p]).sum();
+        let h_v: f64 = (0..6).map(|p| h[l][p] * v_l[p]).sum();
+        terms.jac[l] = jac_l;
+        terms.c_q[l] = curvature.gamma_q[l] - 2.0 * alpha * h_v - beta * beta * jac_l - h_acc;
+        terms.c_v[l] = curvature.gamma_v[l] - 2.0 * alpha * jac_l;
+    }
+    terms
 }
 
 #[cfg(test)]

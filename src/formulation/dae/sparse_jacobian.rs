@@ -40,9 +40,9 @@ use super::{Dae, sin_cos_of};
 use crate::formulation::sparse_jacobian::{Scatter, SparseJacobian, SparsePattern};
 use crate::formulation::{Formulation, FormulationError};
 use crate::mechanics::constraints::{ConstraintEval, RowCurvature};
-use crate::model::{Baumgarte, Frame};
+use crate::model::Frame;
 
-use super::jacobian::local_columns;
+use super::jacobian::{local_columns, row_terms};
 
 /// Relative increment of the central differences of a force element (about u^{1/3}, as in the
 /// dense Jacobian).
@@ -164,7 +164,6 @@ impl Dae {
         let mut curvature = vec![RowCurvature::default(); self.constraints.n_rows()];
         self.constraints
             .curvature_into(q, v, &sin_cos, &mut curvature);
-        let Baumgarte { alpha, beta } = self.baumgarte;
         let im = &self.inv_mass;
 
         let mut out = Scatter::new(&layout.pattern, values);
@@ -175,43 +174,18 @@ impl Dae {
         }
         let shifts = work.schur.regularisation();
         for (i, &k) in self.active.iter().enumerate() {
-            let row = &ce.rows[k];
-            let cols = local_columns(row.body_a, row.body_b);
-            let local = |w: &[f64]| {
-                let mut out = [0.0; 6];
-                for (l, c) in cols.iter().enumerate() {
-                    if let Some(c) = c {
-                        out[l] = w[*c];
-                    }
-                }
-                out
-            };
-            let (acc_l, v_l) = (local(&acc), local(v));
+            let terms = row_terms(&ce.rows[k], &curvature[k], &acc, v, self.baumgarte);
             let h = &curvature[k].hessian;
             let lambda = work.lambda[i];
             out.add(zl + i, zl + i, -shifts.get(i).copied().unwrap_or(0.0));
-            for (l, cl) in cols.iter().enumerate() {
+            for (l, cl) in terms.cols.iter().enumerate() {
                 let Some(cl) = *cl else { continue };
-                let jac_l = if l < 3 {
-                    row.jac_a[l]
-                } else {
-                    row.jac_b[l - 3]
-                };
-                let h_acc: f64 = (0..6).map(|p| h[l][p] * acc_l[p]).sum();
-                let h_v: f64 = (0..6).map(|p| h[l][p] * v_l[p]).sum();
+                let jac_l = terms.jac[l];
                 out.add(za + cl, zl + i, im[cl] * jac_l);
                 out.add(zl + i, za + cl, jac_l);
-                out.add(
-                    zl + i,
-                    cl,
-                    -(curvature[k].gamma_q[l] - 2.0 * alpha * h_v - beta * beta * jac_l - h_acc),
-                );
-                out.add(
-                    zl + i,
-                    n + cl,
-                    -(curvature[k].gamma_v[l] - 2.0 * alpha * jac_l),
-                );
-                for (p, cp) in cols.iter().enumerate() {
+                out.add(zl + i, cl, -terms.c_q[l]);
+                out.add(zl + i, n + cl, -terms.c_v[l]);
+                for (p, cp) in terms.cols.iter().enumerate() {
                     if let Some(cp) = cp {
                         out.add(za + cl, *cp, im[cl] * lambda * h[l][p]);
                     }
