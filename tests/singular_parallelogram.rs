@@ -41,48 +41,12 @@ fn pendulum(loops: usize) -> (f64, f64) {
     (j, g)
 }
 
-/// θ at the times `ts` (increasing) by RK4 with step h; θ and θ̇ are summed with Kahan's
-/// compensation, since 3.5e5 rounded additions to θ ≈ 30 would otherwise cost ~1e-9 rad.
+/// θ at the times `ts` (increasing) by RK4 with step h, θ and θ̇ summed with Kahan's
+/// compensation (3.5e5 rounded additions to θ ≈ 30 would otherwise cost ~1e-9 rad): the scheme
+/// of the chain tests (`common/chain.rs`).
 fn reference(loops: usize, ts: &[f64], h: f64) -> Vec<f64> {
     let (j, g) = pendulum(loops);
-    let f = |th: f64, w: f64| (w, -g / j * th.cos());
-    let (mut th, mut w) = (THETA0, OMEGA0);
-    let (mut c_th, mut c_w) = (0.0, 0.0);
-    let mut t = 0.0;
-    let mut steps = 0u64;
-    let mut out = Vec::with_capacity(ts.len());
-    let kahan = |sum: &mut f64, comp: &mut f64, x: f64| {
-        let y = x - *comp;
-        let s = *sum + y;
-        *comp = (s - *sum) - y;
-        *sum = s;
-    };
-    for &target in ts {
-        while t < target - 1e-15 {
-            let next = ((steps + 1) as f64 * h).min(target);
-            let hh = next - t;
-            let k1 = f(th, w);
-            let k2 = f(th + 0.5 * hh * k1.0, w + 0.5 * hh * k1.1);
-            let k3 = f(th + 0.5 * hh * k2.0, w + 0.5 * hh * k2.1);
-            let k4 = f(th + hh * k3.0, w + hh * k3.1);
-            kahan(
-                &mut th,
-                &mut c_th,
-                hh / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0),
-            );
-            kahan(
-                &mut w,
-                &mut c_w,
-                hh / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1),
-            );
-            t = next;
-            if next == (steps + 1) as f64 * h {
-                steps += 1;
-            }
-        }
-        out.push(th);
-    }
-    out
+    common::chain::pendulum_theta(j, g, THETA0, OMEGA0, ts, h)
 }
 
 fn run<F: Formulation + Outputs>(

@@ -28,6 +28,13 @@ pub fn pendulum(loops: usize) -> (f64, f64) {
 /// (`tests/nfourbar_chain_generalized.rs` checks it by halving the step).
 pub fn theta_exact(loops: usize, ts: &[f64], h: f64) -> Vec<f64> {
     let (j, g) = pendulum(loops);
+    pendulum_theta(j, g, THETA0, OMEGA0, ts, h)
+}
+
+/// θ of the pendulum J θ̈ = −G cos θ from θ(0) = `theta0`, θ̇(0) = `omega0` at the times `ts`,
+/// by the RK4 scheme of [`theta_exact`] (also the reference of the parallelogram fixtures,
+/// `tests/singular_parallelogram.rs`).
+pub fn pendulum_theta(j: f64, g: f64, theta0: f64, omega0: f64, ts: &[f64], h: f64) -> Vec<f64> {
     let f = |th: f64, w: f64| (w, -g / j * th.cos());
     let kahan = |sum: &mut f64, comp: &mut f64, x: f64| {
         let y = x - *comp;
@@ -35,7 +42,7 @@ pub fn theta_exact(loops: usize, ts: &[f64], h: f64) -> Vec<f64> {
         *comp = (s - *sum) - y;
         *sum = s;
     };
-    let (mut th, mut w, mut c_th, mut c_w) = (THETA0, OMEGA0, 0.0, 0.0);
+    let (mut th, mut w, mut c_th, mut c_w) = (theta0, omega0, 0.0, 0.0);
     let (mut t, mut steps) = (0.0, 0u64);
     let mut out = Vec::with_capacity(ts.len());
     for &target in ts {
