@@ -78,6 +78,8 @@
 //! 3. H. Goldstein, C. Poole, J. Safko, *Classical Mechanics*, 3rd ed., Addison-Wesley, 2002,
 //!    §1.4–1.5 (Lagrange's equations, generalised forces by virtual work).
 
+use std::cell::Cell;
+
 use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
 use crate::contact::{
     CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, ContactMemory,
@@ -455,6 +457,27 @@ pub struct ReducedLagrangian {
     /// (`contact/kinks.rs`; on by default for a law with kinks).
     kink_events: Option<[f64; 2]>,
     y0: [f64; 5],
+    /// The last angles (θ2, θ3, θ4) and their sines and cosines: a step's last right-hand side
+    /// is at the state that the event functions, the grazing guard and the impact log read
+    /// next, and `sin_cos` is a third of an evaluation.
+    trig: Cell<TrigCache>,
+}
+
+/// (θ2, θ3, θ4) as bits (an exact match, −0 apart from +0) and their (sin, cos).
+#[derive(Debug, Clone, Copy)]
+struct TrigCache {
+    angles: [u64; 3],
+    sc: [(f64, f64); 3],
+}
+
+impl Default for TrigCache {
+    /// A true entry (three angles +0), so that every hit is one.
+    fn default() -> Self {
+        TrigCache {
+            angles: [0.0f64.to_bits(); 3],
+            sc: [0.0f64.sin_cos(); 3],
+        }
+    }
 }
 
 /// Kinematics of the link chain at one (t, y), before any force.
@@ -553,6 +576,7 @@ impl ReducedLagrangian {
             memory: ContactMemory::new(false),
             kink_events: kinks::friction_kinks(&spec.friction),
             y0: [0.0; 5],
+            trig: Cell::default(),
             crank,
             coupler,
             rocker,
@@ -708,12 +732,26 @@ impl ReducedLagrangian {
         }
     }
 
+    /// (sin, cos) of three angles, from the cache when they are the last ones asked for.
+    #[inline(always)]
+    fn sin_cos(&self, angles: [f64; 3]) -> [(f64, f64); 3] {
+        let bits = angles.map(f64::to_bits);
+        let cached = self.trig.get();
+        if cached.angles == bits {
+            return cached.sc;
+        }
+        let sc = angles.map(f64::sin_cos);
+        self.trig.set(TrigCache { angles: bits, sc });
+        sc
+    }
+
     /// Link kinematics at (t, y): angles, A and the two clearance centres with their velocities.
+    #[inline(always)] // as `dynamics`: the right-hand side uses part of it
     fn chain(&self, t: f64, y: &[f64]) -> Chain {
         let [th3, th4, w3, w4, _] = state(y);
         let theta2 = self.theta2_0 + self.theta2_dot * t;
         let w2 = self.theta2_dot;
-        let sc = [theta2.sin_cos(), th3.sin_cos(), th4.sin_cos()];
+        let sc = self.sin_cos([theta2, th3, th4]);
         let unit = |k: usize, l: f64| [l * sc[k].1, l * sc[k].0];
         let d = [
             unit(0, self.crank.length),

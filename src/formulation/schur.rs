@@ -350,8 +350,8 @@ impl Schur {
     }
 
     /// The diagonal Δ (caller's numbering) that the last [`Schur::factor_regularised`] added to
-    /// S: its factor is the exact Cholesky factor of S + diag(Δ), Δ_k = μ_k²/(d_k + μ_k) with
-    /// d_k the raw pivot of row k (≈ μ_k²/d_k, below round-off of S_kk, at a healthy pivot).
+    /// S: its factor is the exact Cholesky factor of S + diag(Δ), Δ_k = μ_k³/(d_k + μ_k)² with
+    /// d_k the raw pivot of row k (≈ μ_k³/d_k², below round-off of S_kk, at a healthy pivot).
     /// Rows after a pivot that broke down keep their previous values.
     pub fn regularisation(&self) -> &[f64] {
         &self.added
