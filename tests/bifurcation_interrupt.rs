@@ -1,4 +1,4 @@
-//! Ctrl-C during `linkdyn bifurcation` (issue 13): the sweep stops starting points, writes the
+//! Ctrl-C during `linkdyn bifurcation` (docs/sweeps.md): the sweep stops starting points, writes the
 //! points in flight, and exits with code 130 saying how many points are on disk; both files
 //! then hold whole lines only, every point with a verdict has all its rows, and `--resume`
 //! completes the sweep to files equal byte for byte to an uninterrupted run.

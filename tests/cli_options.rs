@@ -1,6 +1,6 @@
 //! Options of `linkdyn run` are checked by the library before any work and refused with exit
 //! code 2 and a message naming the option — negative numbers included, which clap must pass
-//! on as values (issue 13) — and the library exposes no command-line types.
+//! on as values — and the library exposes no command-line types.
 
 use std::path::{Path, PathBuf};
 

@@ -1,4 +1,4 @@
-//! The fast settings of Fig. 6a (issue 13, "Speed"; docs/reproduce.md): Radau5 at rtol 1e-6,
+//! The fast settings of Fig. 6a (docs/reproduce.md): Radau5 at rtol 1e-6,
 //! atol 1e-8 gives the Poincaré points of the reference settings (DOP853 at rtol 1e-8,
 //! atol 1e-10) at the paper's conditions — 3500 rpm, 150 turns with 100 transient, the
 //! journal's x eccentricity B.ex once per turn — to a stated bound, with the same period

@@ -1,4 +1,4 @@
-//! Claim (issue 12 §1): the generalised-coordinate formulation repartitions when the chosen
+//! Claim (docs/formulations.md): the generalised-coordinate formulation repartitions when the chosen
 //! independent coordinate stops parametrising the motion, at a located event, and the run goes
 //! on with no constraint drift, conserving energy and agreeing with the DAE.
 //!

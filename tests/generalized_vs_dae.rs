@@ -1,4 +1,4 @@
-//! Claim (issue 12 §1): the generalised-coordinate formulation, the absolute-coordinate DAE and
+//! Claim (docs/formulations.md): the generalised-coordinate formulation, the absolute-coordinate DAE and
 //! the paper's reduced Lagrangian model are three formulations of the same four-bar with a
 //! clearance joint (models/farahan2016.toml): over two crank turns they give the same impacts
 //! at the same times and the same angles to a bound set by the tolerance, and the generalised

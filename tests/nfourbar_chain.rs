@@ -1,4 +1,4 @@
-//! Claim (issue 24 §1): the DAE takes the N-four-bar chain (models/nfourbar_chain.toml: N
+//! Claim (docs/formulations.md, "Long chains"): the DAE takes the N-four-bar chain (models/nfourbar_chain.toml: N
 //! parallelogram loops of 1 m, 1 kg rods, the IFToMM benchmark) through its flat positions —
 //! where every pin lies on the ground line and the constraint Jacobian loses one rank per loop
 //! — for 20 s, 20 passages, on the right branch, within 1e-3 m of the exact motion at every

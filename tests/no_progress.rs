@@ -1,8 +1,8 @@
-//! Claims (issue 14): a run that makes no progress stops within a window of 1000 step attempts
+//! Claims: a run that makes no progress stops within a window of 1000 step attempts
 //! with a message giving the time, the step size and the cause — "stiff, use an implicit
 //! method" when the method's stiffness test fired, "the step size collapsed" otherwise; a run
 //! that outlives `max_wall` stops with the time reached and the rate; and the rule never comes
-//! near healthy contact-rich runs (the reference four-bar at 250 and 3500 rpm). Issue 12: a
+//! near healthy contact-rich runs (the reference four-bar at 250 and 3500 rpm). And a
 //! stall at a singular position ends the message with the constraint rows that lose their
 //! independence there (`src/formulation/diagnosis.rs`).
 

@@ -1,4 +1,4 @@
-//! Claim (issue 14): the end time is always sampled. Samples lie on t0 + k·dt_out and, when
+//! Claim: the end time is always sampled. Samples lie on t0 + k·dt_out and, when
 //! t_end is not on that grid, one more sample lies exactly at t_end.
 
 mod common;

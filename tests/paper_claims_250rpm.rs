@@ -1,4 +1,4 @@
-//! Claims of issue 13 about the paper's model at 250 rpm, c = 0.5 mm (`models/farahan2016.toml`,
+//! Claims about the paper's model at 250 rpm, c = 0.5 mm (`models/farahan2016.toml`,
 //! reduced formulation, DOP853 at rtol 1e-8, atol 1e-10):
 //! - with Ambrósio's friction as intended the journal enters permanent contact after the first
 //!   impacts (22, at t = 0.0246 s) and the motion settles to period one with a negative largest

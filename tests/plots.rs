@@ -1,4 +1,4 @@
-//! `linkdyn plot` (issue 13): every kind of figure comes out as a PNG of the requested size and
+//! `linkdyn plot`: every kind of figure comes out as a PNG of the requested size and
 //! as an SVG that is well-formed and carries the expected title and axis labels (with units);
 //! the orbit's clearance is read from the model named in the run's provenance; bad requests
 //! (a missing column, an unknown kind or format) exit 2 with a message naming the file and the

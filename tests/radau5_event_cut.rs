@@ -1,4 +1,4 @@
-//! Issue 11 §4: Radau5's accuracy at events. The driver takes the state at a located event
+//! Radau5's accuracy at events. The driver takes the state at a located event
 //! from the method's dense output, and Radau5's dense output is the collocation polynomial of
 //! the whole step. When a contact opens inside the step, the stages after the impact feel the
 //! contact force and pull the polynomial before the impact off by far more than the error

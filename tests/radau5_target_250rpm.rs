@@ -1,4 +1,4 @@
-//! Issue 11 §4's target for the implicit integrator, stated as work: on farahan2016 at 250
+//! The implicit integrator's target (docs/numerics.md), stated as work: on farahan2016 at 250
 //! rpm over 2 crank turns, an angle error ≤ 1e-8 rad against a tight reference in fewer than
 //! 35 000 right-hand-side evaluations (LSODA's count there). RHS counts are deterministic,
 //! so this is an assertion, not a timing; wall time is in `benches/radau5.rs`.

@@ -1,4 +1,4 @@
-//! Claim (issue 12 §4): `--revs N` counts turns of the driven crank angle θ(t) where it is known
+//! Claim (docs/model_format.md, drivers): `--revs N` counts turns of the driven crank angle θ(t) where it is known
 //! before the run. A prescribed angle gives the first time at which |θ(t) − θ(0)| = 2πN
 //! (closed forms below); a prescribed angle that never gets that far, and a torque driver
 //! (whose angle is an outcome of the run), are refused with a message that says why and to

@@ -1,4 +1,4 @@
-//! Claim (issue 12 §2): the generalised-coordinate formulation goes *through* the singular
+//! Claim (docs/formulations.md, "Singular positions"): the generalised-coordinate formulation goes *through* the singular
 //! positions of a parallelogram four-bar and of a chain of three parallel four-bars — the flat
 //! positions, where every link lies on the ground line and the constraint Jacobian loses one
 //! rank per loop — and stays on the parallelogram branch after every passage, follows the exact
@@ -422,7 +422,7 @@ fn dae_passes_the_flat_positions_of_a_chain_of_three_parallelograms() {
     );
 }
 
-/// IDA on the DAE's residual form through the same passages (issue 12 §2).
+/// IDA on the DAE's residual form through the same passages.
 #[cfg(feature = "ida")]
 #[test]
 fn ida_passes_the_flat_positions_of_a_parallelogram() {

@@ -1,4 +1,4 @@
-//! `linkdyn workprecision` (issue 11 §5) on a cheap case, the ideal four-bar over one crank turn:
+//! `linkdyn workprecision` (docs/numerics.md) on a cheap case, the ideal four-bar over one crank turn:
 //! the errors against the confirmed reference fall as the tolerance tightens, the reference is
 //! better than every cell it judges, a formulation that does not take the model gives failed
 //! cells with the reason (the table goes on), and the command writes the CSV, the markdown table
