@@ -4,6 +4,9 @@
 //! composed frames show the bodies where the trajectory says. The CLI makes each from a model
 //! or a result file and refuses what it cannot make.
 
+mod cli_common;
+
+use cli_common::scratch;
 mod animate_common;
 
 use animate_common::{BODIES, farahan, pixel_of, point_at};
@@ -23,17 +26,6 @@ fn movie(size: (u32, u32)) -> (Animation, linkdyn::plot::Table) {
         Ok(m) => (m, run),
         Err(e) => panic!("{e}"),
     }
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("animate_files")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    if let Err(e) = std::fs::create_dir_all(&dir) {
-        panic!("{}: {e}", dir.display());
-    }
-    dir
 }
 
 #[test]

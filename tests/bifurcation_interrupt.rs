@@ -4,7 +4,11 @@
 //! completes the sweep to files equal byte for byte to an uninterrupted run.
 #![cfg(unix)]
 
-use std::path::{Path, PathBuf};
+mod cli_common;
+
+use cli_common::scratch;
+
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -13,16 +17,6 @@ const BIN: &str = env!("CARGO_BIN_EXE_linkdyn");
 const POINTS: usize = 12;
 /// Rows per point: 40 turns, 30 transient.
 const ROWS: usize = 10;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "linkdyn-bifurcation-interrupt-{name}-{}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
-    dir
-}
 
 /// The sweep: 12 clearances at 3500 rpm, 40 turns each (about 0.2 s of CPU per point in a
 /// release build, so a signal after the second point lands well before the end).

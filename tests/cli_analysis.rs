@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 
 mod cli_common;
-use cli_common::linkdyn;
+use cli_common::{linkdyn, scratch};
 
 const MODEL: &str = "models/farahan2016.toml";
 
@@ -17,13 +17,6 @@ fn ok(args: &[&str]) -> String {
     let (code, stdout, stderr) = linkdyn(args);
     assert_eq!(code, 0, "linkdyn {}: {stderr}", args.join(" "));
     stdout
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkdyn-ana-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::create_dir_all(&dir);
-    dir
 }
 
 fn read(path: &Path) -> String {

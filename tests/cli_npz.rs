@@ -2,7 +2,10 @@
 //! valid zip of `.npy` members (checked here without NumPy; the Python tests read it with
 //! `np.load`), and a failed run leaves no file, as for the CSV.
 
-use std::path::{Path, PathBuf};
+mod cli_common;
+
+use cli_common::scratch;
+use std::path::Path;
 use std::process::Command;
 
 const BIN: &str = env!("CARGO_BIN_EXE_linkdyn");
@@ -17,13 +20,6 @@ fn linkdyn(args: &[&str]) -> (i32, String) {
         out.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkdyn-npz-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::create_dir_all(&dir);
-    dir
 }
 
 fn u16_at(b: &[u8], k: usize) -> usize {

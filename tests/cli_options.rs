@@ -2,17 +2,10 @@
 //! code 2 and a message naming the option — negative numbers included, which clap must pass
 //! on as values — and the library exposes no command-line types.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 mod cli_common;
-use cli_common::linkdyn;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkdyn-opts-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::create_dir_all(&dir);
-    dir
-}
+use cli_common::{linkdyn, scratch};
 
 fn entries(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)

@@ -9,16 +9,9 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 mod cli_common;
-use cli_common::linkdyn;
+use cli_common::{linkdyn, scratch};
 
 const BIN: &str = env!("CARGO_BIN_EXE_linkdyn");
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkdyn-files-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::create_dir_all(&dir);
-    dir
-}
 
 fn entries(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
@@ -491,4 +484,108 @@ fn a_path_with_line_breaks_cannot_inject_csv_lines() {
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Every command that writes a result refuses, before any work, an `--out` whose folder does
+/// not exist or is a file: exit 2 and a message naming the folder, nothing created. (Before,
+/// the analyses computed everything and then failed on the lock file.)
+#[test]
+fn a_missing_output_folder_is_refused_before_any_work() {
+    let dir = scratch("missing-folder");
+    let model = "models/farahan2016.toml";
+    let missing = dir.join("nodir");
+    let out = missing.join("p.csv");
+    let out = out.to_str().unwrap_or_default();
+    let html = missing.join("p.html");
+    let html = html.to_str().unwrap_or_default();
+    let commands: [&[&str]; 8] = [
+        &["run", model, "--revs", "1", "--out", out],
+        &[
+            "poincare",
+            model,
+            "--revs",
+            "4",
+            "--transient",
+            "1",
+            "--out",
+            out,
+        ],
+        &[
+            "spectrum",
+            model,
+            "--revs",
+            "4",
+            "--transient",
+            "1",
+            "--observe",
+            "B.ex",
+            "--out",
+            out,
+        ],
+        &[
+            "phase",
+            model,
+            "--revs",
+            "2",
+            "--observe",
+            "coupler.phi",
+            "--out",
+            out,
+        ],
+        &["lyapunov", model, "--revs", "4", "--out", out],
+        &["compare", model, "--revs", "1", "--out", out],
+        &["animate", model, "--revs", "1", "--out", html],
+        &[
+            "bifurcation",
+            model,
+            "--param",
+            "joints.B.clearance",
+            "--from",
+            "1e-4",
+            "--to",
+            "2e-4",
+            "--steps",
+            "1",
+            "--revs",
+            "3",
+            "--transient",
+            "1",
+            "--observe",
+            "B.ex",
+            "--out",
+            out,
+        ],
+    ];
+    let folder = missing.display().to_string();
+    for args in commands {
+        let (code, _, stderr) = linkdyn(args);
+        let target = args.last().copied().unwrap_or_default();
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert_eq!(
+            stderr,
+            format!(
+                "error: --out {target}: the folder {folder} does not exist; create it first (mkdir -p {folder}) or choose another\n"
+            ),
+            "{args:?}"
+        );
+        assert!(
+            entries(&dir).is_empty(),
+            "{args:?} left {:?}",
+            entries(&dir)
+        );
+    }
+    // A file where the folder should be.
+    let file = dir.join("afile");
+    std::fs::write(&file, "x").unwrap_or_else(|e| panic!("{e}"));
+    let inside = file.join("p.csv");
+    let (code, _, stderr) = linkdyn(&["run", model, "--out", inside.to_str().unwrap_or_default()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert_eq!(
+        stderr,
+        format!(
+            "error: --out {}: {} is a file, not a folder\n",
+            inside.display(),
+            file.display()
+        )
+    );
 }

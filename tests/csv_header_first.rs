@@ -5,17 +5,10 @@
 
 mod cli_common;
 
-use cli_common::linkdyn;
-use std::path::{Path, PathBuf};
+use cli_common::{linkdyn, scratch};
+use std::path::Path;
 
 const MODEL: &str = "models/farahan2016.toml";
-
-fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkdyn-header-first-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
-    dir
-}
 
 fn run(args: &[&str]) {
     let (code, _, err) = linkdyn(args);
@@ -55,7 +48,7 @@ fn assert_header_first(path: &Path, header: &str) {
 
 #[test]
 fn analysis_csvs_put_the_header_first_and_merge_still_joins_them() {
-    let dir = scratch();
+    let dir = scratch("header");
     let p = |name: &str| dir.join(name).to_string_lossy().into_owned();
     let short = [
         "--revs", "3", "--dt", "1e-3", "--rtol", "1e-6", "--atol", "1e-8",

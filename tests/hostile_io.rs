@@ -17,17 +17,10 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 mod cli_common;
-use cli_common::linkdyn;
+use cli_common::{linkdyn, scratch};
 
 const BIN: &str = env!("CARGO_BIN_EXE_linkdyn");
 const MODEL: &str = "models/fourbar_ideal.toml";
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkdyn-hostile-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::create_dir_all(&dir);
-    dir
-}
 
 fn entries(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)

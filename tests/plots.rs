@@ -6,6 +6,9 @@
 //! a request fails). No pixel comparisons: fonts and anti-aliasing may change between plotters
 //! versions, the structure may not.
 
+mod cli_common;
+
+use cli_common::scratch;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
@@ -26,14 +29,6 @@ fn linkdyn(args: &[&str]) -> (i32, String) {
 
 fn s(p: &Path) -> String {
     p.display().to_string()
-}
-
-/// A scratch directory per test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkdyn-plots-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::create_dir_all(&dir);
-    dir
 }
 
 /// Input files shared by the tests: half a crank turn of the reference four-bar with its

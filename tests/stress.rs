@@ -5,17 +5,9 @@
 
 use linkdyn::analysis::stress::{FOURBAR, cases};
 use linkdyn::solve::Method;
-use std::path::PathBuf;
 
 mod cli_common;
-use cli_common::linkdyn;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkdyn-stress-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::create_dir_all(&dir);
-    dir
-}
+use cli_common::{linkdyn, scratch};
 
 /// The fields of one CSV line (RFC 4180 quoting).
 fn split_csv(line: &str) -> Vec<String> {
@@ -232,5 +224,22 @@ fn a_bad_budget_is_refused_before_any_run() {
     assert!(
         stderr.contains("--max-wall-per-run: expected a positive number of seconds, got 0"),
         "{stderr}"
+    );
+}
+
+/// Without its models (run from another folder, or a wrong `--models`), `stress` refuses
+/// before any work, naming the folder, instead of reporting every cell as refused with exit 0.
+#[test]
+fn stress_without_its_models_is_refused() {
+    let dir = scratch("no-models");
+    let empty = dir.display().to_string();
+    let (code, stdout, stderr) = linkdyn(&["stress", "--quick", "--models", &empty]);
+    assert_eq!(code, 2, "{stdout}{stderr}");
+    assert!(stdout.is_empty(), "no table: {stdout}");
+    assert_eq!(
+        stderr,
+        format!(
+            "error: --models: expected the folder of the shipped models, with farahan2016.toml; {empty} has none (run from the repository root, or give the folder that holds them)\n"
+        )
     );
 }

@@ -111,6 +111,7 @@ fn read_result(args: &AnimateArgs) -> Result<(linkdyn::model::Model, Table), Fai
 pub fn run(args: &AnimateArgs) -> Result<(), Failure> {
     // Refuse an unknown format before running anything.
     let format = Format::from_path(&args.out)?;
+    linkdyn::output::check_output_file(&args.out, Some(&args.input))?;
     let gif = format == Format::Gif;
     let mut fps = args.fps.unwrap_or(if gif { 20.0 } else { 30.0 });
     if gif && fps.is_finite() && fps > 0.0 {

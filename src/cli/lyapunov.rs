@@ -34,6 +34,8 @@ pub struct LyapunovArgs {
 pub fn run(args: &LyapunovArgs) -> Result<(), Failure> {
     let turns = window_turns(&args.model, args.transient)?;
     let sim = args.model.simulation(turns)?;
+    // Before any work: a result is not lost to a folder that does not exist.
+    linkdyn::output::check_output_file(&args.out, Some(&args.model.model))?;
     let spec = LyapunovSpec {
         turns,
         transient: args.transient,

@@ -31,6 +31,8 @@ pub struct PhaseArgs {
 pub fn run(args: &PhaseArgs) -> Result<(), Failure> {
     let turns = window_turns(&args.model, args.transient)?;
     let sim = args.model.simulation(turns)?;
+    // Before any work: a result is not lost to a folder that does not exist.
+    linkdyn::output::check_output_file(&args.out, Some(&args.model.model))?;
     let (t, p) = analyses::phase(&sim, &args.observe, args.transient)?;
     let source = match p.source {
         RateSource::Column => analyses::rate_column(&args.observe).unwrap_or_default(),

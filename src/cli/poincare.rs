@@ -153,6 +153,8 @@ pub struct PoincareArgs {
 pub fn run(args: &PoincareArgs) -> Result<(), Failure> {
     let turns = args.model.whole_turns(2)?;
     let sim = args.model.simulation(turns as f64)?;
+    // Before any work: a result is not lost to a folder that does not exist.
+    linkdyn::output::check_output_file(&args.out, Some(&args.model.model))?;
     let spec = SectionSpec {
         turns,
         transient: args.transient,

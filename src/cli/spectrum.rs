@@ -29,6 +29,8 @@ pub struct SpectrumArgs {
 pub fn run(args: &SpectrumArgs) -> Result<(), Failure> {
     let turns = window_turns(&args.model, args.transient)?;
     let sim = args.model.simulation(turns)?;
+    // Before any work: a result is not lost to a folder that does not exist.
+    linkdyn::output::check_output_file(&args.out, Some(&args.model.model))?;
     let (s, f_drive) = analyses::spectrum(&sim, &args.observe, args.transient)?;
     let mut text = csv_head(
         "frequency_hz,amplitude",

@@ -5,7 +5,9 @@
 use super::{Failure, csv_field};
 use clap::Args;
 use linkdyn::Error;
-use linkdyn::analysis::stress::{StressCell, StressOptions, StressReport, run_stress};
+use linkdyn::analysis::stress::{
+    FOURBAR, SLIDER_CRANK, StressCell, StressOptions, StressReport, run_stress,
+};
 use linkdyn::output::{self, AtomicFile, Provenance, format_number};
 use linkdyn::simulation::escape_line;
 use std::path::PathBuf;
@@ -156,6 +158,19 @@ pub fn run(args: &StressArgs) -> Result<(), Failure> {
     }
     if let Some(path) = &args.out {
         output::check_output_file(path, None)?;
+    }
+    // Every cell would be refused for want of its model: say so once, before any work.
+    for file in [FOURBAR, SLIDER_CRANK] {
+        if !args.models.join(file).is_file() {
+            return Err(Error::settings(
+                "models",
+                format!(
+                    "expected the folder of the shipped models, with {file}; {} has none (run from the repository root, or give the folder that holds them)",
+                    args.models.display()
+                ),
+            )
+            .into());
+        }
     }
     let widths = [22, 24, 11, 7, 6, 8, 7, 9, 7, 15, 20, 0];
     print_row(&widths, &HEADER.map(String::from));

@@ -46,6 +46,7 @@ fn check_file(path: &Path, model: Option<&Path>) -> Result<(), String> {
             "names a directory (ends in / or has no file name); expected a file name".into(),
         );
     }
+    check_folder(path)?;
     // `metadata` follows symbolic links: a link to /dev/null is a character device.
     let Ok(meta) = std::fs::metadata(path) else {
         return Ok(());
@@ -63,6 +64,32 @@ fn check_file(path: &Path, model: Option<&Path>) -> Result<(), String> {
         return Err("is the model file; choose another name".into());
     }
     Ok(())
+}
+
+/// Why the folder that is to hold `path` cannot, if it cannot: it does not exist, or it is not
+/// a folder. Checked before any work, so that a run is not lost to a missing folder at the end.
+fn check_folder(path: &Path) -> Result<(), String> {
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => return Ok(()), // the current folder
+    };
+    match std::fs::metadata(folder) {
+        Ok(meta) if meta.is_dir() => Ok(()),
+        Ok(meta) => Err(format!(
+            "{} is {}, not a folder",
+            folder.display(),
+            if meta.is_file() {
+                "a file"
+            } else {
+                kind(meta.file_type())
+            }
+        )),
+        Err(_) => Err(format!(
+            "the folder {} does not exist; create it first (mkdir -p {}) or choose another",
+            folder.display(),
+            folder.display()
+        )),
+    }
 }
 
 /// What a non-regular file is.

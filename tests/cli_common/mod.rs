@@ -1,5 +1,7 @@
 //! Running the built `linkdyn` binary from the command-line tests.
+#![allow(dead_code)] // each test file uses some of these
 
+use std::path::PathBuf;
 use std::process::Command;
 
 /// Runs `linkdyn ARGS…` in the crate root; returns (exit code, stdout, stderr). A process
@@ -15,4 +17,21 @@ pub fn linkdyn(args: &[&str]) -> (i32, String, String) {
         String::from_utf8_lossy(&out.stdout).into_owned(),
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
+}
+
+/// A fresh, empty folder for one test's files: `<temp>/linkdyn-<test file>-<name>-<pid>`
+/// (the test file from the test binary's name, so that two files never share one).
+pub fn scratch(name: &str) -> PathBuf {
+    let suite = std::env::current_exe()
+        .ok()
+        .and_then(|exe| exe.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .map(|stem| {
+            stem.rsplit_once('-')
+                .map_or(stem.clone(), |(s, _)| s.to_string())
+        })
+        .unwrap_or_else(|| "tests".into());
+    let dir = std::env::temp_dir().join(format!("linkdyn-{suite}-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    dir
 }

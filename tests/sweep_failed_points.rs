@@ -12,17 +12,10 @@
 
 mod cli_common;
 
-use cli_common::linkdyn;
-use std::path::{Path, PathBuf};
+use cli_common::{linkdyn, scratch};
+use std::path::Path;
 
 const MODEL: &str = "models/farahan2016.toml";
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("linkdyn-issue-29-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
-    dir
-}
 
 fn s(p: &Path) -> String {
     p.display().to_string()
