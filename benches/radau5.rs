@@ -25,8 +25,11 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs, ReducedLagrangian};
-use linkdyn::solve::radau5::{LinearSolver, Outcome, Radau5Core, Radau5Settings, Radau5Stats};
-use linkdyn::solve::{Method, Recorder, SolverOptions, integrate};
+use linkdyn::solve::radau5::{LinearSolver, Radau5Method, Radau5Settings};
+use linkdyn::solve::{
+    Attempt, ErrorWeights, Integrator, Method, Recorder, SolverOptions, SolverStats, Trial,
+    integrate,
+};
 use std::time::Duration;
 
 fn run<F: Formulation + Outputs + Clone>(f: &F, options: &SolverOptions) -> usize {
@@ -137,13 +140,21 @@ fn chain_step(c: &mut Criterion) {
         ("dae_radau5_sparse_lu", LinearSolver::Sparse),
     ] {
         let settings = Radau5Settings::default().linear_solver(solver);
-        let mut core = Radau5Core::for_formulation(&dae, 1e-8, 1e-10, f64::INFINITY, &settings);
-        let mut stats = Radau5Stats::default();
+        let weights = ErrorWeights::new(&dae, 1e-8, 1e-10);
+        let mut method = Radau5Method::new(&dae, &weights, f64::INFINITY, &settings);
+        let mut stats = SolverStats::default();
+        let trial = Trial {
+            t: 0.0,
+            y: &y0,
+            h: 0.01,
+            t_new: 0.01,
+            error_control: true,
+        };
         group.bench_function(name, |b| {
             b.iter(|| {
-                core.restart(&f0);
-                match core.attempt(&dae, (0.0, &y0), (0.01, 0.01), true, &mut stats) {
-                    Ok(Outcome::Accepted { .. }) => {}
+                Integrator::<Dae>::restart(&mut method, 0.0, &y0, &f0);
+                match method.attempt(&dae, &trial, &mut stats) {
+                    Ok(Attempt::Accepted { .. }) => {}
                     other => panic!("{name}: {other:?}"),
                 }
             })

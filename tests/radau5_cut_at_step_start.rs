@@ -28,8 +28,10 @@ use linkdyn::analysis::PeriodVerdict;
 use linkdyn::formulation::{Formulation, FormulationError};
 use linkdyn::simulation::analyses::{self, ModelSection, SectionSpec};
 use linkdyn::simulation::{FormulationKind, Simulation, SimulationOptions};
-use linkdyn::solve::radau5::{Outcome, Radau5Core, Radau5Settings, Radau5Stats, Rejection};
-use linkdyn::solve::{Method, SolverOptions};
+use linkdyn::solve::radau5::{Radau5Method, Radau5Settings};
+use linkdyn::solve::{
+    Attempt, ErrorWeights, Integrator, Method, Rejection, SolverOptions, SolverStats, Trial,
+};
 
 const MODEL: &str = "models/farahan2016.toml";
 
@@ -130,15 +132,22 @@ impl Formulation for Ramp {
 }
 
 /// One Radau5 attempt of size h = 1 ms from (0, 0) across a crossing at θ.
-fn attempt_across(theta: f64) -> (Outcome, Radau5Stats) {
+fn attempt_across(theta: f64) -> (Attempt, SolverStats) {
     let h = 1e-3;
     let f = Ramp { a: theta * h };
-    let settings = Radau5Settings::default();
-    let mut core = Radau5Core::new(1, 1e-8, 1e-10, 1.0, &settings);
-    core.restart(&[1.0]);
-    let mut stats = Radau5Stats::default();
-    let outcome = core
-        .attempt(&f, (0.0, &[0.0]), (h, h), true, &mut stats)
+    let weights = ErrorWeights::new(&f, 1e-8, 1e-10);
+    let mut method = Radau5Method::new(&f, &weights, 1.0, &Radau5Settings::default());
+    Integrator::<Ramp>::restart(&mut method, 0.0, &[0.0], &[1.0]);
+    let mut stats = SolverStats::default();
+    let trial = Trial {
+        t: 0.0,
+        y: &[0.0],
+        h,
+        t_new: h,
+        error_control: true,
+    };
+    let outcome = method
+        .attempt(&f, &trial, &mut stats)
         .unwrap_or_else(|e| panic!("θ = {theta}: {e}"));
     (outcome, stats)
 }
@@ -151,16 +160,17 @@ fn radau5_cuts_at_a_crossing_inside_the_step_but_not_near_its_ends() {
     for theta in [3e-6, 0.005, 0.995] {
         let (outcome, stats) = attempt_across(theta);
         assert!(
-            matches!(outcome, Outcome::Accepted { .. }),
+            matches!(outcome, Attempt::Accepted { .. }),
             "θ = {theta}: expected the attempt accepted uncut, got {outcome:?}"
         );
-        assert_eq!(stats.event_cuts, 0, "θ = {theta}: cuts");
+        assert_eq!(stats.error_test_failures, 0, "θ = {theta}: rejections");
     }
     for theta in [0.02, 0.5, 0.98] {
         let (outcome, stats) = attempt_across(theta);
-        let Outcome::Rejected {
+        // A cut is reported to the driver as an error-test failure.
+        let Attempt::Rejected {
             h_next,
-            cause: Rejection::EventCut,
+            cause: Rejection::ErrorTest,
         } = outcome
         else {
             panic!("θ = {theta}: expected a cut, got {outcome:?}");
@@ -171,6 +181,6 @@ fn radau5_cuts_at_a_crossing_inside_the_step_but_not_near_its_ends() {
             (h_next - expected).abs() <= 1e-12 * 1e-3 * 1.001 + 1e-3 * 2f64.powi(-40),
             "θ = {theta}: cut to {h_next} s, expected {expected} s"
         );
-        assert_eq!(stats.event_cuts, 1, "θ = {theta}: cuts");
+        assert_eq!(stats.error_test_failures, 1, "θ = {theta}: rejections");
     }
 }

@@ -8,7 +8,8 @@ mod common;
 
 use common::load;
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, ReducedLagrangian};
-use linkdyn::solve::radau5::{LinearSolver, Radau5Core, Radau5Settings, SPARSE_MIN_STATES};
+use linkdyn::solve::ErrorWeights;
+use linkdyn::solve::radau5::{LinearSolver, Radau5Method, Radau5Settings, SPARSE_MIN_STATES};
 use linkdyn::solve::{Method, SolverOptions, SolverStats, Stepper, Stop};
 
 /// Radau5 with `solver` from the initial state to `t_end`: the final state and the statistics.
@@ -116,7 +117,8 @@ fn sparse_and_dense_lu_give_the_same_impacts() {
 fn the_automatic_choice_follows_the_measured_size() {
     let settings = |solver| Radau5Settings::default().linear_solver(solver);
     let core = |f: &dyn Formulation, solver| {
-        Radau5Core::for_formulation(f, 1e-8, 1e-10, f64::INFINITY, &settings(solver))
+        let weights = ErrorWeights::new(f, 1e-8, 1e-10);
+        Radau5Method::new(f, &weights, f64::INFINITY, &settings(solver))
     };
     let small = dae("models/farahan2016.toml", &[], false);
     let chain = dae("models/nfourbar_chain.toml", &["parameters.N=4"], false);
@@ -130,7 +132,8 @@ fn the_automatic_choice_follows_the_measured_size() {
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(!core(&reduced, LinearSolver::Sparse).uses_sparse_lu());
     // The sparse Newton matrix of the chain of 4 loops (with q̈ and λ: 107 rows) holds a few
-    // entries per row, the dense one n².
+    // entries per row, the dense one (n − m)²: the second-order structure leaves the n − m
+    // components after the m positions as unknowns.
     let sparse = core(&chain, LinearSolver::Sparse);
     let n = chain.n_states();
     let rows = n + chain.sparse_jacobian().map_or(0, |s| s.n_algebraic());
@@ -139,8 +142,13 @@ fn the_automatic_choice_follows_the_measured_size() {
         "{} entries for {rows} rows",
         sparse.newton_matrix_entries()
     );
+    let m = chain.second_order_positions();
+    assert!(
+        m > 0 && 2 * m <= n,
+        "the DAE's positions: m = {m} of n = {n}"
+    );
     assert_eq!(
         core(&chain, LinearSolver::Dense).newton_matrix_entries(),
-        n * n
+        (n - m) * (n - m)
     );
 }

@@ -1008,6 +1008,11 @@ impl Formulation for Dae {
         Ok(())
     }
 
+    /// q' = q̇, copied in [`Formulation::rhs`].
+    fn second_order_positions(&self) -> usize {
+        self.n_coordinates()
+    }
+
     /// Only q and q̇ are error-controlled: the stored impact velocities (constant between
     /// events) and the energy integrals (which feed back into nothing) are bookkeeping, so
     /// `energy` on or off gives the same steps and the same trajectory.

@@ -115,6 +115,15 @@ pub trait Formulation {
         None
     }
 
+    /// Number m of leading states that are positions whose derivatives are the next m states
+    /// exactly: f_i(t, y) = y_{m+i} for i < m (q̇ = v, the first-order form of equations of
+    /// motion), for every (t, y). Implicit methods then solve their Newton systems through
+    /// one of n − m unknowns (`solve::radau5`, Hairer's `M1` option). Must be at most n/2.
+    /// Default: 0, no such structure claimed.
+    fn second_order_positions(&self) -> usize {
+        0
+    }
+
     /// Marks the states whose local error the integrators control. `controlled` (length
     /// [`Formulation::n_states`]) arrives all `true`; a formulation sets `false` for its
     /// bookkeeping states — discrete state kept in y (a stored impact velocity, constant between

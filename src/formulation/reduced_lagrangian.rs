@@ -1124,6 +1124,11 @@ impl Formulation for ReducedLagrangian {
         Ok(0)
     }
 
+    /// (θ3, θ4)' = (θ̇3, θ̇4), the next two states.
+    fn second_order_positions(&self) -> usize {
+        2
+    }
+
     /// θ3, θ4, θ̇3, θ̇4 are error-controlled; the stored impact velocity δ̇⁽⁻⁾ (constant
     /// between events) is bookkeeping.
     fn error_controlled(&self, controlled: &mut [bool]) {

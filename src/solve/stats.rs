@@ -41,6 +41,9 @@ pub struct SolverStats {
     pub newton_iterations: u64,
     /// Jacobian evaluations of an implicit method (0 for the explicit pairs).
     pub jacobian_evals: u64,
+    /// LU factorisations of an implicit method's Newton matrices (Radau5: each one real and
+    /// one complex); 0 for the explicit pairs and for IDA, which keeps its own.
+    pub lu_decompositions: u64,
     /// Calls of [`Formulation::rhs`](crate::formulation::Formulation::rhs), all included.
     pub rhs_evals: u64,
     /// Of `rhs_evals`, those spent on finite-difference Jacobians
@@ -104,6 +107,7 @@ mod tests {
             "newton_failures",
             "newton_iterations",
             "jacobian_evals",
+            "lu_decompositions",
             "rhs_evals",
             "jacobian_rhs_evals",
             "dense_evals",

@@ -3,23 +3,22 @@
 //! drive it like the explicit pairs ([`Method::Radau5`]).
 //!
 //! The driver owns (t, y), the clamps of h, events, restarts and the retry of recoverable RHS
-//! failures (h/4); the core's counters are added to the driver's [`SolverStats`] after each call
+//! failures (h/4); the core counts its own costs into the driver's [`SolverStats`]
 //! (`rhs_evals` including forward-difference Jacobians, `newton_iterations`, `newton_failures`
-//! including singular iteration matrices, `jacobian_evals`, `error_test_failures`).
+//! including singular iteration matrices, `jacobian_evals`, `lu_decompositions`,
+//! `error_test_failures` including the cuts at event crossings).
 
-use super::core::{Outcome, Radau5Core, Rejection as CoreRejection};
-use super::settings::{Radau5Settings, Radau5Stats};
+use super::core::Radau5Core;
+use super::settings::Radau5Settings;
 use crate::formulation::Formulation;
 use crate::solve::SolveError;
-use crate::solve::integrator::{Attempt, ErrorWeights, Integrator, Rejection, Start, Trial};
+use crate::solve::integrator::{Attempt, ErrorWeights, Integrator, Start, Trial};
 use crate::solve::options::Method;
 use crate::solve::stats::SolverStats;
 
 /// Radau IIA (order 5) as an [`Integrator`].
 pub struct Radau5Method {
     core: Radau5Core,
-    /// The core's own counters (LU decompositions, Jacobian RHS calls … are kept here).
-    local: Radau5Stats,
 }
 
 impl Radau5Method {
@@ -45,7 +44,6 @@ impl Radau5Method {
         };
         Radau5Method {
             core: Radau5Core::for_formulation(f, weights.rtol, weights.atol, h_max, &settings),
-            local: Radau5Stats::default(),
         }
     }
 
@@ -55,21 +53,12 @@ impl Radau5Method {
         self.core.uses_sparse_lu()
     }
 
-    /// The core's counters so far (LU decompositions, RHS calls of Jacobians …).
+    /// Structural non-zeros of one Newton matrix: n² with the dense LU (k² for the k = n − m
+    /// unknowns left by a second-order structure), those of the augmented matrix with the
+    /// sparse one.
     #[must_use]
-    pub fn core_stats(&self) -> &Radau5Stats {
-        &self.local
-    }
-
-    /// Adds what the core counted since `before` to the driver's statistics.
-    fn add_counts(&self, before: &Radau5Stats, stats: &mut SolverStats) {
-        let now = &self.local;
-        stats.rhs_evals += now.rhs_evals - before.rhs_evals;
-        stats.jacobian_rhs_evals += now.jacobian_rhs_evals - before.jacobian_rhs_evals;
-        stats.newton_iterations += now.newton_iterations - before.newton_iterations;
-        stats.newton_failures += now.newton_failures - before.newton_failures;
-        stats.jacobian_evals += now.jacobian_evals - before.jacobian_evals;
-        stats.error_test_failures += now.error_test_failures - before.error_test_failures;
+    pub fn newton_matrix_entries(&self) -> usize {
+        self.core.newton_matrix_entries()
     }
 }
 
@@ -102,29 +91,13 @@ impl<F: Formulation + ?Sized> Integrator<F> for Radau5Method {
         trial: &Trial<'_>,
         stats: &mut SolverStats,
     ) -> Result<Attempt, SolveError> {
-        let before = self.local.clone();
-        let outcome = self.core.attempt(
+        self.core.attempt(
             f,
             (trial.t, trial.y),
             (trial.h, trial.t_new),
             trial.error_control,
-            &mut self.local,
-        );
-        self.add_counts(&before, stats);
-        Ok(match outcome? {
-            Outcome::Accepted { h_next } => {
-                self.local.record_step(trial.h); // `core_stats` reports steps and their sizes
-                Attempt::Accepted { h_next }
-            }
-            Outcome::Rejected { h_next, cause } => Attempt::Rejected {
-                h_next,
-                cause: match cause {
-                    CoreRejection::ErrorTest | CoreRejection::EventCut => Rejection::ErrorTest,
-                    CoreRejection::NewtonFailure => Rejection::NewtonFailure,
-                    CoreRejection::NonFinite => Rejection::NonFinite,
-                },
-            },
-        })
+            stats,
+        )
     }
 
     fn solution(&self) -> &[f64] {

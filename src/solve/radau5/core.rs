@@ -8,10 +8,12 @@
 //! polynomial. An attempt changes that committed state only when it is accepted.
 
 use super::newton::NewtonMatrices;
-use super::settings::{Radau5Settings, Radau5Stats};
+use super::settings::Radau5Settings;
 use super::tableau::{C1, C1M1, C1MC2, C2, C2M1, DD, Eigen, T, TI};
 use crate::formulation::Formulation;
 use crate::solve::SolveError;
+use crate::solve::integrator::{Attempt, Rejection};
+use crate::solve::stats::SolverStats;
 
 /// Unit roundoff as RADAU5 uses it (`UROUND`).
 const UROUND: f64 = 1e-16;
@@ -28,38 +30,15 @@ const FIXED_NEWTON_TOL: f64 = 0.01;
 const MIN_CUT: f64 = 0.01;
 /// See [`MIN_CUT`].
 const MAX_CUT: f64 = 0.99;
-
-/// Why an attempt was rejected.
+/// Why the core rejected an attempt: the driver's causes, and a cut at an event crossing
+/// (reported to the driver as an error-test failure).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rejection {
-    /// The error estimate was ≥ 1 (in units of the tolerance).
-    ErrorTest,
-    /// The Newton iteration diverged (θ ≥ 0.99), was predicted not to converge in time, used up
-    /// `max_newton_iter`, or an iteration matrix was singular.
-    NewtonFailure,
-    /// The Newton corrections became NaN or infinite (f returned NaN/∞ at a stage):
-    /// [`Radau5Core::solution`] then holds the offending stage state.
-    NonFinite,
+enum Cause {
+    /// One of the driver's causes.
+    Driver(Rejection),
     /// An event function changed sign inside the step: the step is retried ending just past
-    /// the crossing (see [`Radau5Core::attempt`]). Counted as an error-test failure.
+    /// the crossing (see [`Radau5Core::event_cut`]).
     EventCut,
-}
-
-/// Outcome of [`Radau5Core::attempt`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Outcome {
-    /// Accepted: [`Radau5Core::solution`] is y(t_new) and the dense output covers the step.
-    Accepted {
-        /// Proposed next step size (s), before the caller's clamps.
-        h_next: f64,
-    },
-    /// Rejected: retry from the same (t, y).
-    Rejected {
-        /// Step size to retry with (s).
-        h_next: f64,
-        /// Why.
-        cause: Rejection,
-    },
 }
 
 /// Tolerances and norms of the core.
@@ -76,7 +55,7 @@ struct Norms {
 }
 
 /// The state of the Radau IIA method between attempts (all buffers allocated once).
-pub struct Radau5Core {
+pub(super) struct Radau5Core {
     n: usize,
     settings: Radau5Settings,
     norms: Norms,
@@ -116,6 +95,11 @@ pub struct Radau5Core {
     g_start: Vec<f64>,
     g_end: Vec<f64>,
     g_mid: Vec<f64>,
+    /// The time whose state `g_start` holds g of (the start of the attempts since), and
+    /// whether `g_end` holds g of the current attempt's end: the end of an accepted attempt
+    /// is the start of the next one, so its g is not evaluated twice.
+    g_start_at: Option<f64>,
+    g_end_fresh: bool,
     /// Whether the current attempt is the retry of a step cut at an event crossing (it is
     /// not cut again).
     cut_retry: bool,
@@ -133,15 +117,11 @@ pub struct Radau5Core {
 }
 
 impl Radau5Core {
-    /// A core for n states with tolerances `rtol`, `atol` (before Hairer's transform), largest
-    /// step `h_max` and `settings` (validated by the caller for this n), with the dense LU.
-    pub fn new(n: usize, rtol: f64, atol: f64, h_max: f64, settings: &Radau5Settings) -> Self {
-        Self::with_newton(n, rtol, atol, h_max, settings, NewtonMatrices::dense(n))
-    }
-
-    /// A core for the formulation `f` as [`Radau5Core::new`], with the dense or the sparse LU
-    /// as `settings.linear_solver` and `f` ask ([`LinearSolver`](super::LinearSolver)).
-    pub fn for_formulation<F: Formulation + ?Sized>(
+    /// A core for the formulation `f` with tolerances `rtol`, `atol` (before Hairer's
+    /// transform), largest step `h_max` and `settings` (validated by the caller), with the
+    /// dense or the sparse LU as `settings.linear_solver` and `f` ask
+    /// ([`LinearSolver`](super::LinearSolver)).
+    pub(super) fn for_formulation<F: Formulation + ?Sized>(
         f: &F,
         rtol: f64,
         atol: f64,
@@ -210,6 +190,8 @@ impl Radau5Core {
             g_start: Vec::new(),
             g_end: Vec::new(),
             g_mid: Vec::new(),
+            g_start_at: None,
+            g_end_fresh: false,
             cut_retry: false,
             cut_fell_short: false,
             first: true,
@@ -226,7 +208,7 @@ impl Radau5Core {
     /// Newton starts from zero with its convergence estimate κ back at 1, the step-size history
     /// is forgotten. The dense output of the
     /// last accepted step is kept.
-    pub fn restart(&mut self, f0: &[f64]) {
+    pub(super) fn restart(&mut self, f0: &[f64]) {
         self.f0.copy_from_slice(f0);
         self.jac_current = false;
         self.need_jac = true;
@@ -235,6 +217,7 @@ impl Radau5Core {
         self.cut_retry = false;
         self.cut_fell_short = false;
         self.accepted_since_start = 0;
+        self.g_start_at = None;
         // RADAU5 starts with FACCON = 1. Kept from before the restart, a tiny κ (fast
         // contraction in free flight) lets the first Newton iteration from Z = 0 pass as
         // converged: on farahan2016 (reduced, rtol 1e-9) the first step into a contact then
@@ -246,52 +229,51 @@ impl Radau5Core {
     /// Whether the Newton matrices are factored by the sparse LU (see
     /// [`LinearSolver`](super::LinearSolver)).
     #[must_use]
-    pub fn uses_sparse_lu(&self) -> bool {
+    pub(super) fn uses_sparse_lu(&self) -> bool {
         self.newton.is_sparse()
     }
 
-    /// Structural non-zeros of one Newton matrix: n² with the dense LU, those of the augmented
-    /// matrix with the sparse one.
+    /// Structural non-zeros of one Newton matrix: k² with the dense LU (k = n − m), those of
+    /// the augmented matrix with the sparse one.
     #[must_use]
-    pub fn newton_matrix_entries(&self) -> usize {
+    pub(super) fn newton_matrix_entries(&self) -> usize {
         self.newton.stored_entries()
     }
 
     /// The state at the end of the last attempt (meaningless after a rejection).
     #[must_use]
-    pub fn solution(&self) -> &[f64] {
+    pub(super) fn solution(&self) -> &[f64] {
         &self.y_new
-    }
-
-    /// f at the end of the last accepted attempt (the f(t, y) of the next attempt).
-    #[must_use]
-    pub fn f_start(&self) -> &[f64] {
-        &self.f0
     }
 
     /// f at the start and at the end of the last accepted step (exact RHS values: the end one
     /// is evaluated at the accepted state for the next step's error estimate).
     #[must_use]
-    pub fn accepted_slopes(&self) -> (&[f64], &[f64]) {
+    pub(super) fn accepted_slopes(&self) -> (&[f64], &[f64]) {
         (&self.f_acc_start, &self.f0)
     }
 
     /// Marks the attempt rejected with retry size `h_retry`.
-    fn reject_with(&mut self, h_retry: f64, cause: Rejection, stats: &mut Radau5Stats) -> Outcome {
+    fn reject_with(&mut self, h_retry: f64, cause: Cause, stats: &mut SolverStats) -> Attempt {
         self.reject = true;
         // Hairer: re-use the Jacobian if it was evaluated at this point, else refresh it.
         self.need_jac = !self.jac_current;
-        match cause {
-            Rejection::ErrorTest => stats.error_test_failures += 1,
-            Rejection::EventCut => {
-                stats.error_test_failures += 1;
-                stats.event_cuts += 1;
+        let cause = match cause {
+            Cause::Driver(Rejection::NewtonFailure) => {
+                stats.newton_failures += 1;
+                Rejection::NewtonFailure
             }
-            Rejection::NewtonFailure => stats.newton_failures += 1,
-            // Counted as the explicit pairs count a NaN error estimate.
-            Rejection::NonFinite => stats.error_test_failures += 1,
-        }
-        Outcome::Rejected {
+            // A NaN estimate is counted as the explicit pairs count it.
+            Cause::Driver(c @ (Rejection::ErrorTest | Rejection::NonFinite)) => {
+                stats.error_test_failures += 1;
+                c
+            }
+            Cause::EventCut => {
+                stats.error_test_failures += 1;
+                Rejection::ErrorTest
+            }
+        };
+        Attempt::Rejected {
             h_next: h_retry,
             cause,
         }
@@ -304,7 +286,7 @@ impl Radau5Core {
         t: f64,
         y: &[f64],
         out: &mut [f64],
-        stats: &mut Radau5Stats,
+        stats: &mut SolverStats,
     ) -> Result<(), SolveError> {
         stats.rhs_evals += 1;
         f.rhs(t, y, out)
@@ -317,14 +299,14 @@ impl Radau5Core {
     ///
     /// A failed RHS call is returned as `Err` (the attempt counts as rejected internally); the
     /// caller may retry recoverable failures with a smaller step.
-    pub fn attempt<F: Formulation + ?Sized>(
+    pub(super) fn attempt<F: Formulation + ?Sized>(
         &mut self,
         f: &F,
         (t, y): (f64, &[f64]),
         (h, t_new): (f64, f64),
         error_control: bool,
-        stats: &mut Radau5Stats,
-    ) -> Result<Outcome, SolveError> {
+        stats: &mut SolverStats,
+    ) -> Result<Attempt, SolveError> {
         let n = self.n;
         debug_assert_eq!(y.len(), n, "the driver's state has n components");
         // Fixed-step mode ignores rtol and atol (as the explicit pairs do): Newton is iterated
@@ -340,6 +322,7 @@ impl Radau5Core {
         for (s, &v) in self.scal.iter_mut().zip(y) {
             *s = atol + rtol * v.abs();
         }
+        self.g_end_fresh = false;
         if self.need_jac && !self.jac_current {
             let calls = self
                 .newton
@@ -357,8 +340,11 @@ impl Radau5Core {
             stats.lu_decompositions += 1;
             if self.newton.factor(fac1, alphn, betan).is_err() {
                 self.lu_h = f64::NAN;
-                stats.singular_matrices += 1;
-                return Ok(self.reject_with(0.5 * h, Rejection::NewtonFailure, stats));
+                return Ok(self.reject_with(
+                    0.5 * h,
+                    Cause::Driver(Rejection::NewtonFailure),
+                    stats,
+                ));
             }
             self.lu_h = h;
         }
@@ -371,7 +357,11 @@ impl Radau5Core {
         let mut newt = 0;
         loop {
             if newt >= nit {
-                return Ok(self.reject_with(0.5 * h, Rejection::NewtonFailure, stats));
+                return Ok(self.reject_with(
+                    0.5 * h,
+                    Cause::Driver(Rejection::NewtonFailure),
+                    stats,
+                ));
             }
             for (i, c) in [C1, C2, 1.0].into_iter().enumerate() {
                 for k in 0..n {
@@ -408,7 +398,7 @@ impl Radau5Core {
                 for k in 0..n {
                     self.y_new[k] = y[k] + self.z[2][k] + self.fs[2][k];
                 }
-                return Ok(self.reject_with(0.5 * h, Rejection::NonFinite, stats));
+                return Ok(self.reject_with(0.5 * h, Cause::Driver(Rejection::NonFinite), stats));
             }
             if newt > 1 && newt < nit {
                 let thq = dyno / dyno_old;
@@ -419,7 +409,11 @@ impl Radau5Core {
                 };
                 thq_old = thq;
                 if self.theta >= 0.99 {
-                    return Ok(self.reject_with(0.5 * h, Rejection::NewtonFailure, stats));
+                    return Ok(self.reject_with(
+                        0.5 * h,
+                        Cause::Driver(Rejection::NewtonFailure),
+                        stats,
+                    ));
                 }
                 self.faccon = self.theta / (1.0 - self.theta);
                 let left = (nit - 1 - newt) as i32;
@@ -428,7 +422,11 @@ impl Radau5Core {
                     // Convergence predicted too slow: retry with a step that should make it.
                     let qnewt = dyth.clamp(1e-4, 20.0);
                     let hhfac = 0.8 * qnewt.powf(-1.0 / (4.0 + f64::from(left)));
-                    return Ok(self.reject_with(hhfac * h, Rejection::NewtonFailure, stats));
+                    return Ok(self.reject_with(
+                        hhfac * h,
+                        Cause::Driver(Rejection::NewtonFailure),
+                        stats,
+                    ));
                 }
             }
             dyno_old = dyno.max(UROUND);
@@ -465,7 +463,7 @@ impl Radau5Core {
             && let Some(h_cut) = self.event_cut(f, (t, y), (h, t_new))
         {
             self.cut_retry = true;
-            return Ok(self.reject_with(h_cut, Rejection::EventCut, stats));
+            return Ok(self.reject_with(h_cut, Cause::EventCut, stats));
         }
         let s = &self.settings;
         let cfac = s.safety * (1.0 + 2.0 * nit as f64);
@@ -475,7 +473,7 @@ impl Radau5Core {
         let mut quot = (err.powf(0.25) / fac).clamp(1.0 / hi, 1.0 / lo);
         if err >= 1.0 {
             let retry = if self.first { 0.1 * h } else { h / quot };
-            return Ok(self.reject_with(retry, Rejection::ErrorTest, stats));
+            return Ok(self.reject_with(retry, Cause::Driver(Rejection::ErrorTest), stats));
         }
 
         // Accepted, once f at the new point is known (the next attempt's f(t, y)).
@@ -511,7 +509,7 @@ impl Radau5Core {
         self.commit(t_new, h);
         self.cut_fell_short = fell_short;
         self.need_jac = !theta_small;
-        Ok(Outcome::Accepted { h_next })
+        Ok(Attempt::Accepted { h_next })
     }
 
     /// The step size that ends the attempt just past the earliest sign change of an event
@@ -539,7 +537,10 @@ impl Radau5Core {
         }
         polynomial_of(&self.z, &mut self.cont_try);
         // Earliest crossing: bisection on s ∈ [−1, 0] (s = (τ − t_new)/h) over all the
-        // components that change sign, 40 halvings (2⁻⁴⁰·h).
+        // components that change sign, 40 halvings (2⁻⁴⁰·h). The driver's Illinois finder to
+        // the same resolution was tried here: its cut points differ from these by less than
+        // 2⁻⁴⁰, and that alone moved the reduced four-bar's error at 250 rpm, rtol 1e-8 from
+        // 8.2e-9 to 2.4e-8 rad (docs/benchmarks.md, "Radau5").
         let (mut lo, mut hi) = (-1.0_f64, 0.0_f64);
         for _ in 0..40 {
             let mid = 0.5 * (lo + hi);
@@ -581,11 +582,17 @@ impl Radau5Core {
         for g in [&mut self.g_start, &mut self.g_end, &mut self.g_mid] {
             g.resize(ne, 0.0);
         }
-        f.events(t, y, &mut self.g_start);
+        // Event functions depend on (t, y) only, and (t, y) is the last accepted end unless
+        // the driver restarted the core (which forgets `g_start_at`).
+        if self.g_start_at != Some(t) {
+            f.events(t, y, &mut self.g_start);
+            self.g_start_at = Some(t);
+        }
         for k in 0..self.n {
             self.y_stage[k] = y[k] + self.z[2][k];
         }
         f.events(t_new, &self.y_stage, &mut self.g_end);
+        self.g_end_fresh = true;
         (0..ne).any(|i| crossed(self.g_start[i], self.g_end[i]))
     }
 
@@ -627,7 +634,7 @@ impl Radau5Core {
         t: f64,
         y: &[f64],
         h: f64,
-        stats: &mut Radau5Stats,
+        stats: &mut SolverStats,
     ) -> Result<f64, SolveError> {
         let hee = [DD[0] / h, DD[1] / h, DD[2] / h];
         for k in 0..self.n {
@@ -665,6 +672,12 @@ impl Radau5Core {
         self.t_acc = t_new;
         self.h_acc_step = h;
         self.y_acc.copy_from_slice(&self.y_new);
+        if self.g_end_fresh {
+            std::mem::swap(&mut self.g_start, &mut self.g_end);
+            self.g_start_at = Some(t_new);
+        } else {
+            self.g_start_at = None;
+        }
         self.f_acc_start.copy_from_slice(&self.f0);
         self.f0.copy_from_slice(&self.f_new);
         polynomial_of(&self.z, &mut self.cont);
@@ -677,7 +690,7 @@ impl Radau5Core {
 
     /// The dense output of the last accepted step at t (the caller checks that t lies in the
     /// step): the cubic collocation polynomial u with u(t_acc) = y_acc.
-    pub fn interpolate(&self, t: f64, out: &mut [f64]) {
+    pub(super) fn interpolate(&self, t: f64, out: &mut [f64]) {
         if self.h_acc_step == 0.0 {
             out.copy_from_slice(&self.y_acc);
             return;

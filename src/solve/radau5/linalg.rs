@@ -204,7 +204,9 @@ pub(super) struct ComplexLu {
     alpha: f64,
     beta: f64,
     part: Partition,
+    /// A = A_re + i·A_im (copied at factorisation) for the decoupled rows.
     jac: Vec<f64>,
+    jac_im: Vec<f64>,
     tmp_re: Vec<f64>,
     tmp_im: Vec<f64>,
 }
@@ -222,6 +224,7 @@ impl ComplexLu {
             beta: 0.0,
             part: Partition::new(n),
             jac: vec![0.0; n * n],
+            jac_im: vec![0.0; n * n],
             tmp_re: vec![0.0; n],
             tmp_im: vec![0.0; n],
         }
@@ -235,6 +238,18 @@ impl ComplexLu {
         jac: &[f64],
         part: &Partition,
     ) -> Result<(), Singular> {
+        self.factor_complex(alpha, beta, (jac, None), part)
+    }
+
+    /// Factorises (α + iβ)·I − A for A = A_re + i·A_im (row-major, n²; A_im zero if `None`)
+    /// with the partition `part` of A's components.
+    pub(super) fn factor_complex(
+        &mut self,
+        alpha: f64,
+        beta: f64,
+        (jac, jac_im): (&[f64], Option<&[f64]>),
+        part: &Partition,
+    ) -> Result<(), Singular> {
         let n_all = self.n;
         debug_assert_eq!(
             jac.len(),
@@ -244,22 +259,25 @@ impl ComplexLu {
         self.part.main.clone_from(&part.main);
         self.part.trailing.clone_from(&part.trailing);
         self.jac.copy_from_slice(jac);
+        match jac_im {
+            Some(im) => self.jac_im.copy_from_slice(im),
+            None => self.jac_im.fill(0.0),
+        }
         (self.alpha, self.beta) = (alpha, beta);
         let n = part.main.len();
         self.m = n;
         for (a, &i) in part.main.iter().enumerate() {
             for (b, &j) in part.main.iter().enumerate() {
                 self.re[a * n + b] = -jac[i * n_all + j];
-                self.im[a * n + b] = 0.0;
+                self.im[a * n + b] = -self.jac_im[i * n_all + j];
             }
             self.re[a * n + a] += alpha;
-            self.im[a * n + a] = beta;
+            self.im[a * n + a] += beta;
         }
-        if beta == 0.0 {
-            for &j in &part.trailing {
-                if alpha - jac[j * n_all + j] == 0.0 {
-                    return Err(Singular { column: j });
-                }
+        for &j in &part.trailing {
+            let d = j * n_all + j;
+            if alpha - jac[d] == 0.0 && beta - self.jac_im[d] == 0.0 {
+                return Err(Singular { column: j });
             }
         }
         let (re, im) = (&mut self.re, &mut self.im);
@@ -324,12 +342,14 @@ impl ComplexLu {
         );
         for &j in &self.part.trailing {
             let row = &self.jac[j * n_all..(j + 1) * n_all];
+            let row_im = &self.jac_im[j * n_all..(j + 1) * n_all];
             let (mut sr, mut si) = (b_re[j], b_im[j]);
             for (a, &i) in self.part.main.iter().enumerate() {
-                sr += row[i] * self.tmp_re[a];
-                si += row[i] * self.tmp_im[a];
+                let (tr, ti) = (self.tmp_re[a], self.tmp_im[a]);
+                sr += row[i] * tr - row_im[i] * ti;
+                si += row[i] * ti + row_im[i] * tr;
             }
-            let (pr, pi) = (self.alpha - row[j], self.beta);
+            let (pr, pi) = (self.alpha - row[j], self.beta - row_im[j]);
             let d = pr * pr + pi * pi;
             b_re[j] = (sr * pr + si * pi) / d;
             b_im[j] = (si * pr - sr * pi) / d;

@@ -48,7 +48,7 @@
 //! atol' + rtol'·|y_i| at the start of the step, and components masked out by
 //! [`Radau5Settings::error_mask`] are left out of the error and Newton norms.
 //!
-//! **Layout.** [`Radau5Core`] (`core.rs`) is the method: one attempt from a state the caller
+//! **Layout.** `Radau5Core` (`core.rs`, private) is the method: one attempt from a state the caller
 //! owns. [`Radau5Method`] (`adapter.rs`) puts it behind the
 //! [`Integrator`](crate::solve::integrator::Integrator) trait, and the common driver
 //! ([`Stepper`](crate::solve::Stepper), [`integrate`](fn@crate::solve::integrate)) does the
@@ -57,8 +57,8 @@
 //! There is no second driver: tests, examples and benches run Radau5 the way `linkdyn run`
 //! does.
 //!
-//! **Allocation.** All buffers are allocated by [`Radau5Core::new`] (or
-//! [`Radau5Core::for_formulation`]); stepping allocates nothing with the dense LU. The sparse
+//! **Allocation.** All buffers are allocated by [`Radau5Method::new`]; stepping allocates
+//! nothing with the dense LU. The sparse
 //! LU's factors keep their capacity between factorisations and grow only when a factor needs
 //! more room than before; a formulation's Jacobian may allocate its own scratch.
 //!
@@ -102,6 +102,5 @@ mod settings;
 mod sparse;
 mod tableau;
 
-pub use self::core::{Outcome, Radau5Core, Rejection};
 pub use adapter::Radau5Method;
-pub use settings::{LinearSolver, Radau5Settings, Radau5Stats, SPARSE_MIN_STATES};
+pub use settings::{LinearSolver, Radau5Settings, SPARSE_MIN_STATES};

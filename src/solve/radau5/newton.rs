@@ -10,12 +10,39 @@ use super::sparse::SparseLu;
 use crate::formulation::{Formulation, FormulationError};
 
 /// The dense path: J row-major (n²), its decoupled components, the two dense LUs.
+///
+/// **Second-order structure** (Hairer's `M1` option \[1, Sec. IV.8\]). When the formulation
+/// says that its first m states are positions whose derivatives are the next m states exactly
+/// ([`Formulation::second_order_positions`]: f_i = y_{m+i}, so row i of J is the unit row
+/// e_{m+i}), the n × n system (s·I − J) x = b is solved through the k × k one, k = n − m, for
+/// the other components u = x_{m..n}: the first m rows give x_i = (b_i + u_i)/s, and
+/// substituted into the others,
+///
+/// (s·I − J_u − J_q/s) u = b_u + J_q b_q / s,
+///
+/// with J_u = J\[m.., m..\] and J_q = J\[m.., ..m\] padded with zero columns to k. The factored
+/// matrices are k × k (for m = n/2 half the size: an eighth of the LU work, a quarter of the
+/// solves'); for complex s = α + iβ the reduced matrix is complex.
+///
+/// # References
+/// 1. E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II*, 2nd ed., Springer,
+///    1996, Sec. IV.8 (RADAU5's `M1`, `M2` arguments).
 struct Dense {
+    n: usize,
+    /// Positions m of the second-order structure (0: none, the full system is factored).
+    m: usize,
     jac: Vec<f64>,
     jac_work: Vec<f64>,
+    /// The reduced matrix J_u + J_q/s (k²), its imaginary part for complex s.
+    red: Vec<f64>,
+    red_im: Vec<f64>,
+    /// Decoupled components of the factored matrix (J, or the reduced one).
     part: Partition,
     e1: RealLu,
     e2: ComplexLu,
+    /// 1/s of the real and of the complex factorisation.
+    inv_real: f64,
+    inv_complex: (f64, f64),
 }
 
 /// The sparse path: the values of the augmented Jacobian 𝒥 and the sparse LUs.
@@ -35,14 +62,24 @@ enum Storage {
 }
 
 impl NewtonMatrices {
-    /// Dense buffers for n states.
-    pub(super) fn dense(n: usize) -> Self {
+    /// Dense buffers for n states, the first m of them positions of a second-order structure
+    /// (m = 0: none; m ≤ n/2, else none).
+    pub(super) fn dense(n: usize, m: usize) -> Self {
+        let m = if 2 * m <= n { m } else { 0 };
+        let k = n - m;
+        let red_len = if m > 0 { k * k } else { 0 };
         NewtonMatrices(Storage::Dense(Box::new(Dense {
+            n,
+            m,
             jac: vec![0.0; n * n],
             jac_work: vec![0.0; 2 * n],
-            part: Partition::new(n),
-            e1: RealLu::new(n),
-            e2: ComplexLu::new(n),
+            red: vec![0.0; red_len],
+            red_im: vec![0.0; red_len],
+            part: Partition::new(k),
+            e1: RealLu::new(k),
+            e2: ComplexLu::new(k),
+            inv_real: 0.0,
+            inv_complex: (0.0, 0.0),
         })))
     }
 
@@ -66,7 +103,7 @@ impl NewtonMatrices {
                 })));
             }
         }
-        Self::dense(n)
+        Self::dense(n, f.second_order_positions())
     }
 
     /// Whether the sparse LU is in use.
@@ -75,11 +112,11 @@ impl NewtonMatrices {
         matches!(self.0, Storage::Sparse(_))
     }
 
-    /// Structural non-zeros of one Newton matrix: n² for the dense LU.
+    /// Structural non-zeros of one Newton matrix: k² for the dense LU (k = n − m unknowns).
     #[must_use]
     pub(super) fn stored_entries(&self) -> usize {
         match &self.0 {
-            Storage::Dense(d) => d.jac.len(),
+            Storage::Dense(d) => (d.n - d.m).pow(2),
             Storage::Sparse(s) => s.lu.nnz(),
         }
     }
@@ -95,7 +132,24 @@ impl NewtonMatrices {
         match &mut self.0 {
             Storage::Dense(d) => {
                 let calls = f.jacobian(t, y, f0, &mut d.jac, &mut d.jac_work)?;
-                d.part.update(&d.jac);
+                if d.m == 0 {
+                    d.part.update(&d.jac);
+                } else {
+                    // The pattern of J_u + J_q/s for any s (sums of magnitudes: no cancellation).
+                    let (n, m, k) = (d.n, d.m, d.n - d.m);
+                    debug_assert!(
+                        (0..m).all(|i| (0..n).all(|j| d.jac[i * n + j] == f64::from(j == m + i))),
+                        "the formulation's second-order rows are unit rows"
+                    );
+                    for a in 0..k {
+                        let row = &d.jac[(m + a) * n..(m + a + 1) * n];
+                        for c in 0..k {
+                            let q = if c < m { row[c].abs() } else { 0.0 };
+                            d.red[a * k + c] = row[m + c].abs() + q;
+                        }
+                    }
+                    d.part.update(&d.red);
+                }
                 Ok(calls)
             }
             Storage::Sparse(s) => {
@@ -115,9 +169,34 @@ impl NewtonMatrices {
     /// Factorises γ̂/h·I − J (`fac1` = γ̂/h) and (α̂ + iβ̂)/h·I − J with the last Jacobian.
     pub(super) fn factor(&mut self, fac1: f64, alphn: f64, betan: f64) -> Result<(), Singular> {
         match &mut self.0 {
-            Storage::Dense(d) => {
+            Storage::Dense(d) if d.m == 0 => {
                 d.e1.factor(fac1, &d.jac, &d.part)?;
                 d.e2.factor(alphn, betan, &d.jac, &d.part)
+            }
+            Storage::Dense(d) => {
+                let (n, m, k) = (d.n, d.m, d.n - d.m);
+                let inv = 1.0 / fac1;
+                let norm = alphn * alphn + betan * betan;
+                let (ir, ii) = (alphn / norm, -betan / norm);
+                d.inv_real = inv;
+                d.inv_complex = (ir, ii);
+                for a in 0..k {
+                    let row = &d.jac[(m + a) * n..(m + a + 1) * n];
+                    for c in 0..k {
+                        let q = if c < m { row[c] } else { 0.0 };
+                        d.red[a * k + c] = row[m + c] + q * inv;
+                    }
+                }
+                d.e1.factor(fac1, &d.red, &d.part)?;
+                for a in 0..k {
+                    let row = &d.jac[(m + a) * n..(m + a + 1) * n];
+                    for c in 0..k {
+                        let q = if c < m { row[c] } else { 0.0 };
+                        d.red[a * k + c] = row[m + c] + q * ir;
+                        d.red_im[a * k + c] = q * ii;
+                    }
+                }
+                d.e2.factor_complex(alphn, betan, (&d.red, Some(&d.red_im)), &d.part)
             }
             Storage::Sparse(s) => {
                 s.lu.factor_real(fac1, &s.jac)?;
@@ -129,7 +208,23 @@ impl NewtonMatrices {
     /// Solves (γ̂/h·I − J) x = b in place.
     pub(super) fn solve_real(&mut self, b: &mut [f64]) {
         match &mut self.0 {
-            Storage::Dense(d) => d.e1.solve(b),
+            Storage::Dense(d) if d.m == 0 => d.e1.solve(b),
+            Storage::Dense(d) => {
+                let (n, m, inv) = (d.n, d.m, d.inv_real);
+                let (bq, bu) = b.split_at_mut(m);
+                for (a, u) in bu.iter_mut().enumerate() {
+                    let row = &d.jac[(m + a) * n..(m + a) * n + m];
+                    let mut sum = 0.0;
+                    for (&j, &q) in row.iter().zip(bq.iter()) {
+                        sum += j * q;
+                    }
+                    *u += sum * inv;
+                }
+                d.e1.solve(bu);
+                for (q, &u) in bq.iter_mut().zip(bu.iter()) {
+                    *q = (*q + u) * inv;
+                }
+            }
             Storage::Sparse(s) => s.lu.solve_real(b),
         }
     }
@@ -137,7 +232,37 @@ impl NewtonMatrices {
     /// Solves ((α̂ + iβ̂)/h·I − J)(x_re + i x_im) = b_re + i b_im in place.
     pub(super) fn solve_complex(&mut self, b_re: &mut [f64], b_im: &mut [f64]) {
         match &mut self.0 {
-            Storage::Dense(d) => d.e2.solve(b_re, b_im),
+            Storage::Dense(d) if d.m == 0 => d.e2.solve(b_re, b_im),
+            Storage::Dense(d) => {
+                let (n, m, (ir, ii)) = (d.n, d.m, d.inv_complex);
+                let (q_re, u_re) = b_re.split_at_mut(m);
+                let (q_im, u_im) = b_im.split_at_mut(m);
+                // b_q/s, kept in place until the back-substitution.
+                for (qr, qi) in q_re.iter_mut().zip(q_im.iter_mut()) {
+                    (*qr, *qi) = (*qr * ir - *qi * ii, *qr * ii + *qi * ir);
+                }
+                for (a, (ur, ui)) in u_re.iter_mut().zip(u_im.iter_mut()).enumerate() {
+                    let row = &d.jac[(m + a) * n..(m + a) * n + m];
+                    let (mut sr, mut si) = (0.0, 0.0);
+                    for ((&j, &qr), &qi) in row.iter().zip(q_re.iter()).zip(q_im.iter()) {
+                        sr += j * qr;
+                        si += j * qi;
+                    }
+                    *ur += sr;
+                    *ui += si;
+                }
+                d.e2.solve(u_re, u_im);
+                // x_q = (b_q + u)/s = b_q/s + u/s.
+                for (((qr, qi), &ur), &ui) in q_re
+                    .iter_mut()
+                    .zip(q_im.iter_mut())
+                    .zip(u_re.iter())
+                    .zip(u_im.iter())
+                {
+                    *qr += ur * ir - ui * ii;
+                    *qi += ur * ii + ui * ir;
+                }
+            }
             Storage::Sparse(s) => s.lu.solve_complex(b_re, b_im),
         }
     }

@@ -1,5 +1,5 @@
 //! [`Radau5Settings`] (the knobs of the Newton iteration and step control that
-//! [`SolverOptions`](crate::solve::SolverOptions) does not have) and [`Radau5Stats`].
+//! [`SolverOptions`](crate::solve::SolverOptions) does not have).
 
 use serde::Serialize;
 
@@ -220,60 +220,5 @@ impl Radau5Settings {
             ));
         }
         Ok(())
-    }
-}
-
-/// Counters of a [`Radau5Method`](super::Radau5Method) run.
-///
-/// Every step attempt is either accepted (`steps`) or rejected (`rejected`), and each
-/// rejection has one cause: `rejected = error_test_failures + newton_failures +
-/// recovered_rejections` (checked in `tests/radau5_stiff_problems.rs`).
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct Radau5Stats {
-    /// Accepted steps.
-    pub steps: u64,
-    /// Rejected step attempts, all causes.
-    pub rejected: u64,
-    /// Calls of [`Formulation::rhs`](crate::formulation::Formulation::rhs), all included
-    /// (those of finite-difference Jacobians too).
-    pub rhs_evals: u64,
-    /// Of `rhs_evals`, those made by [`Formulation::jacobian`](crate::formulation::Formulation::jacobian).
-    pub jacobian_rhs_evals: u64,
-    /// Jacobian evaluations.
-    pub jacobian_evals: u64,
-    /// LU factorisations (each one real n×n and one complex n×n).
-    pub lu_decompositions: u64,
-    /// Simplified Newton iterations (each: 3 RHS calls, one real and one complex solve).
-    pub newton_iterations: u64,
-    /// Step attempts rejected because Newton diverged, was predicted too slow, used up
-    /// `max_newton_iter`, or an iteration matrix was singular.
-    pub newton_failures: u64,
-    /// Step attempts rejected by the error test (event cuts included).
-    pub error_test_failures: u64,
-    /// Of `error_test_failures`, attempts retried shorter because an event function changed
-    /// sign inside them ([`Radau5Settings::cut_at_events`]).
-    pub event_cuts: u64,
-    /// Step attempts rejected because the RHS failed recoverably (a trial stage overshooting
-    /// into a contact, [`FormulationError::is_recoverable`](crate::formulation::FormulationError::is_recoverable)).
-    pub recovered_rejections: u64,
-    /// Of `newton_failures`, those where an iteration matrix was singular.
-    pub singular_matrices: u64,
-    /// Smallest accepted step size (s); 0 if no step.
-    pub h_min_used: f64,
-    /// Largest accepted step size (s); 0 if no step.
-    pub h_max_used: f64,
-}
-
-impl Radau5Stats {
-    /// Records an accepted step of size h (s).
-    pub(crate) fn record_step(&mut self, h: f64) {
-        if self.steps == 0 {
-            self.h_min_used = h;
-            self.h_max_used = h;
-        } else {
-            self.h_min_used = self.h_min_used.min(h);
-            self.h_max_used = self.h_max_used.max(h);
-        }
-        self.steps += 1;
     }
 }
