@@ -28,6 +28,7 @@ command line's.
 
 from typing import Any, Iterable, Mapping, Optional, Union
 import os
+import warnings
 
 from . import _linkdyn
 from ._analyses import Bifurcation, LyapunovExponent, PhasePortrait, PoincareSection, Spectrum
@@ -86,8 +87,13 @@ def load(path: Union[str, "os.PathLike[str]"], set: Overrides = None) -> Model:
     order. The overrides are recorded in every result's provenance.
 
     Raises :class:`ModelError` (with ``file``, ``line``, ``column``, ``field`` where known).
+    Values that are valid but more likely a unit slip (``Model.warnings``: an angle of more
+    than a turn, rpm written as rad/s) are issued as ``UserWarning``.
     """
-    return _linkdyn.load(os.fspath(path), _overrides(set))
+    model = _linkdyn.load(os.fspath(path), _overrides(set))
+    for text in model.warnings:
+        warnings.warn(text, UserWarning, stacklevel=2)
+    return model
 
 
 def version() -> str:

@@ -36,6 +36,12 @@ class Model:
     def notes(self) -> List[str]:
         """Things to know that are not errors (the CLI's ``note:`` lines), one sentence each."""
     @property
+    def warnings(self) -> List[str]:
+        """Values that are valid but more likely a unit slip than meant (an angle field of more
+        than a turn, a driver speed no linkage of the model's size runs at), one sentence each:
+        the CLI's ``warning:`` lines; :func:`linkdyn.load` also issues each as a
+        ``UserWarning``."""
+    @property
     def parameters(self) -> Dict[str, float]:
         """The ``[parameters]`` table as evaluated after the load-time overrides
         (``set={"parameters.N": 5}``): name → value; empty without parameters."""

@@ -61,6 +61,15 @@ impl PyModel {
         self.model.notes.clone()
     }
 
+    /// Values that are valid but more likely a unit slip than meant (an angle field of more
+    /// than a turn, a driver speed that no linkage of the model's size runs at), one sentence
+    /// each; the command line prints them as `warning:`. Loading also issues each as a Python
+    /// `UserWarning`.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.model.warnings.clone()
+    }
+
     /// Parameters of the model file's `[parameters]` table as evaluated, after the load-time
     /// overrides (`set={"parameters.N": 5}`): name → value (SI, as the expressions use them).
     #[getter]

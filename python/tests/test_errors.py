@@ -137,3 +137,19 @@ def test_notes_are_the_cli_s_note_lines(cli):
     model = linkdyn.load(MODEL, set={"joints.B.friction.law": "none"})
     assert expected and model.notes == expected
     assert linkdyn.load(MODEL).notes == []
+
+
+def test_unit_slips_are_the_cli_s_warning_lines_and_python_warnings(cli):
+    # Degrees typed into a radian field: valid, but warned about, the same sentence both ways.
+    code, _, err = cli("check", MODEL, "--set", "drivers.motor.initial_angle=90")
+    assert code == 0, err
+    expected = [l[len("warning: "):] for l in err.splitlines() if l.startswith("warning: ")]
+    assert expected == [
+        "drivers.motor.initial_angle = 90 rad is more than a turn (2π = 6.2832 rad); "
+        "angles are in radians (90 degrees would be 1.5708 rad)"
+    ]
+    with pytest.warns(UserWarning) as caught:
+        model = linkdyn.load(MODEL, set={"drivers.motor.initial_angle": 90})
+    assert model.warnings == expected
+    assert [str(w.message) for w in caught] == expected
+    assert linkdyn.load(MODEL).warnings == []

@@ -4,6 +4,7 @@ use super::{Failure, in_model};
 use clap::Args;
 use linkdyn::formulation::{Dae, DaeOptions};
 use linkdyn::model::JointKind;
+use linkdyn::output::format_for_people;
 use std::path::PathBuf;
 
 /// Arguments of `check`.
@@ -31,8 +32,8 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
         println!(
             "  {:<12} m = {} kg, I = {} kg·m², assembled x = {:.6} m, y = {:.6} m, phi = {:.6} rad",
             b.name,
-            b.mass,
-            b.inertia,
+            format_for_people(b.mass),
+            format_for_people(b.inertia),
             a.q[3 * i],
             a.q[3 * i + 1],
             a.q[3 * i + 2]
@@ -45,8 +46,8 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
                 " (bearing on {}, journal on {}, c = {} m, R_J = {} m)",
                 model.frame_name(j.a.frame),
                 model.frame_name(j.b.frame),
-                c.clearance,
-                c.journal_radius
+                format_for_people(c.clearance),
+                format_for_people(c.journal_radius)
             ),
             _ => String::new(),
         };
@@ -64,7 +65,7 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
         let listed: Vec<String> = model
             .parameters
             .iter()
-            .map(|(n, v)| format!("{n} = {v}"))
+            .map(|(n, v)| format!("{n} = {}", format_for_people(*v)))
             .collect();
         println!("parameters: {}", listed.join(", "));
     }
@@ -75,7 +76,7 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
             d.name,
             d.describe(),
             model.joint(d.joint).name,
-            d.initial_angle
+            format_for_people(d.initial_angle)
         );
     }
     println!(

@@ -91,6 +91,9 @@ pub fn load_model(
     for note in &model.notes {
         eprintln!("note: {note}");
     }
+    for warning in &model.warnings {
+        eprintln!("warning: {warning}");
+    }
     Ok(model)
 }
 

@@ -6,7 +6,10 @@ use super::args::SolveArgs;
 use super::progress::Watched;
 use super::{Failure, in_model, interrupt};
 use clap::{Args, ValueEnum};
-use linkdyn::output::{CsvSink, ResultPair, check_npz_size, impacts_csv, impacts_path, write_npz};
+use linkdyn::model::DriverMotion;
+use linkdyn::output::{
+    CsvSink, ResultPair, check_npz_size, format_for_people, impacts_csv, impacts_path, write_npz,
+};
 use linkdyn::simulation::{Columns, FormulationKind, RunSummary, Simulation};
 use std::path::PathBuf;
 
@@ -111,16 +114,39 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         impacts,
         summary.max_constraint_violation
     );
+    // The speed in both units: a speed typed in the wrong one shows here at once.
+    for driver in model.drivers.iter().filter(|d| d.speed != 0.0) {
+        eprintln!(
+            "driver {}: {} rpm = {} rad/s{}",
+            driver.name,
+            format_for_people(driver.speed * 30.0 / std::f64::consts::PI),
+            format_for_people(driver.speed),
+            if matches!(driver.motion, DriverMotion::ConstantSpeed) {
+                ""
+            } else {
+                " (the final speed)"
+            }
+        );
+    }
     for joint in &summary.clearance_joints {
         if let Some(p) = &joint.permanent_contact {
             eprintln!(
-                "clearance joint {}: permanent contact since t = {:.6} s (impact {} of {}, open for {:.4} s to the end, at least {:.4} s counts)",
+                "clearance joint {}: in permanent contact since t = {} s (from impact {} of {} to the end of the run, {} s; contact counts as permanent when it lasts at least {} s, {})",
                 joint.joint,
-                p.since,
+                format_for_people(p.since),
                 p.impact_index,
                 joint.impact_count,
-                p.duration,
-                p.min_duration
+                format_for_people(p.duration),
+                format_for_people(p.min_duration),
+                match model.drivers.as_slice() {
+                    [d] if d.speed != 0.0
+                        && (p.min_duration * d.speed.abs() - std::f64::consts::TAU).abs()
+                            < 1e-9 =>
+                    {
+                        "one driver turn"
+                    }
+                    _ => "a fifth of the run",
+                }
             );
         }
     }

@@ -123,6 +123,7 @@ pub fn build(raw: ModelFile, source: ModelSource, loc: &Locator<'_>) -> Result<M
         parameters,
         source,
         notes: Vec::new(),
+        warnings: Vec::new(),
     })
 }
 

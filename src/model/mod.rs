@@ -14,6 +14,7 @@ mod locate;
 mod names;
 mod overrides;
 mod params;
+pub mod plausibility;
 mod suggest;
 mod types;
 
@@ -97,6 +98,7 @@ pub fn load_str(text: &str, file: &str, overrides: &[String]) -> Result<Model, M
         }
     })?;
     model.notes = notes;
+    model.warnings = plausibility::warnings(&model);
     Ok(model)
 }
 

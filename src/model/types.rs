@@ -264,11 +264,12 @@ pub struct Driver {
 impl Driver {
     /// One line for `linkdyn check`: the motion and its data.
     pub fn describe(&self) -> String {
-        let rpm = |w: f64| w * 30.0 / std::f64::consts::PI;
+        use crate::simulation::format_for_people as people;
+        let rpm = |w: f64| people(w * 30.0 / std::f64::consts::PI);
         match &self.motion {
             DriverMotion::ConstantSpeed => format!(
-                "constant speed {} rad/s ({:.4} rpm)",
-                self.speed,
+                "constant speed {} rad/s ({} rpm)",
+                people(self.speed),
                 rpm(self.speed)
             ),
             DriverMotion::SpeedRamp {
@@ -278,10 +279,14 @@ impl Driver {
                 duration,
                 smooth,
             } => format!(
-                "{} speed ramp {speed0} → {speed1} rad/s ({:.4} → {:.4} rpm) from t = {start} s over {duration} s",
+                "{} speed ramp {} → {} rad/s ({} → {} rpm) from t = {} s over {} s",
                 if *smooth { "smooth" } else { "linear" },
+                people(*speed0),
+                people(*speed1),
                 rpm(*speed0),
-                rpm(*speed1)
+                rpm(*speed1),
+                people(*start),
+                people(*duration)
             ),
             DriverMotion::PrescribedAngle(e) => format!("prescribed angle θ(t) = {}", e.text),
         }
@@ -459,6 +464,10 @@ pub struct Model {
     /// Things the user should know that are not errors, one sentence each, e.g. the fields a
     /// `--set` that switched a contact or friction law dropped. The CLI prints them.
     pub notes: Vec<String>,
+    /// Values that are valid but more likely a unit slip than meant (an angle of more than a
+    /// turn, a driver speed no linkage of this size runs at), one sentence each
+    /// ([`plausibility`](super::plausibility)). The CLI prints them as warnings.
+    pub warnings: Vec<String>,
 }
 
 impl Model {

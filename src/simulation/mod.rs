@@ -39,7 +39,7 @@ pub use impacts::{ContactPoint, ContactProbe, Impact, PermanentContact};
 pub use options::{
     EndTime, FormulationKind, MAX_OUTPUT_VALUES, SimulationOptions, check_sampling, end_time,
 };
-pub use provenance::{Provenance, escape_line, format_number, push_number};
+pub use provenance::{Provenance, escape_line, format_for_people, format_number, push_number};
 pub use sink::{Discard, Sample, SampleSink};
 pub use summary::{ClearanceSummary, EnergyBalance, FIRST_IMPACTS, RunSummary, SummaryBuilder};
 pub use trajectory::{Columns, Trajectory};

@@ -64,6 +64,37 @@ pub fn format_number(x: f64) -> String {
     out
 }
 
+/// Formats a number for a person reading a message: 5 significant digits at most, no trailing
+/// zeros, plain for magnitudes in [1e-4, 1e6) and scientific otherwise: 0.48 for
+/// 0.48000000000000004, 0.1256 for 0.12560000000000002, 3.3423e4 → 33423, 1.2346e-7. Result
+/// files keep every digit ([`format_number`]); messages need the value, not its last bit.
+pub fn format_for_people(x: f64) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let scientific = format!("{x:.4e}");
+    let (mantissa, exponent) = scientific.split_once('e').unwrap_or((&scientific, "0"));
+    let exponent: i32 = exponent.parse().unwrap_or(0);
+    let trim = |t: &str| -> String {
+        if t.contains('.') {
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            t.to_string()
+        }
+    };
+    if (-4..6).contains(&exponent) {
+        // The rounded value, written with the decimals its 5 digits need.
+        let rounded: f64 = scientific.parse().unwrap_or(x);
+        let decimals = (4 - exponent).max(0) as usize;
+        trim(&format!("{rounded:.decimals$}"))
+    } else {
+        format!("{}e{exponent}", trim(mantissa))
+    }
+}
+
 /// Appends [`format_number`]`(x)` to `out` without allocating (beyond `out`'s growth): the
 /// digits come from Ryū's shortest round-trip conversion and are laid out as Rust's `{}`
 /// (plain) or `{:e}` (scientific) would. A CSV row is thousands of these.
@@ -198,6 +229,28 @@ mod tests {
             format!("{x}")
         } else {
             format!("{x:e}")
+        }
+    }
+
+    #[test]
+    fn numbers_for_people_have_five_digits_at_most() {
+        for (x, text) in [
+            (0.48000000000000004, "0.48"),
+            (0.12560000000000002, "0.1256"),
+            (3500.0 * 30.0 / std::f64::consts::PI, "33423"),
+            (1.23456789e-7, "1.2346e-7"),
+            (-2.5e-7, "-2.5e-7"),
+            (1e-4, "0.0001"),
+            (999_999.0, "1e6"),
+            (123_456.0, "123460"),
+            (99_999.4, "99999"),
+            (0.0, "0"),
+            (-0.0, "0"),
+            (6.283185307179586, "6.2832"),
+            (1.0, "1"),
+            (f64::INFINITY, "inf"),
+        ] {
+            assert_eq!(format_for_people(x), text, "{x:e}");
         }
     }
 
