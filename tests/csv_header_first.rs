@@ -1,5 +1,5 @@
 //! Claim: every analysis CSV (poincare, bifurcation and its verdicts, spectrum, phase, lyapunov)
-//! is laid out as the run CSV: the header row first, then the `#` provenance lines, then the
+//! and a run's impact log are laid out as the run CSV: the header row first, then the `#` provenance lines, then the
 //! numbers — so `np.genfromtxt(f, delimiter=",", names=True, comments="#")` takes the names from
 //! the first line — and `merge` still joins shard files written that way.
 
@@ -71,6 +71,11 @@ fn analysis_csvs_put_the_header_first_and_merge_still_joins_them() {
     with("phase", &["--observe", "coupler.phi"], &p("f.csv"));
     assert_header_first(&dir.join("f.csv"), "t,value,rate");
     with("lyapunov", &[], &p("l.csv"));
+    with("run", &[], &p("r.csv"));
+    assert_header_first(
+        &dir.join("r.impacts.csv"),
+        "joint,index,t,driver_angle,impact_velocity,peak_normal_force,peak_penetration,duration",
+    );
     assert_header_first(&dir.join("l.csv"), "t,lambda");
     let sweep = |extra: &[&str], out: &str| {
         let mut a = vec![

@@ -23,7 +23,7 @@ c = next(j["clearance"] for j in model.joints if j["name"] == "B")
 ex, ey = result["B.ex"], result["B.ey"]
 summary = result.summary["clearance_joints"][0]
 print(
-    f"{len(result)} samples, {summary['impacts']} impacts, "
+    f"{len(result)} samples, {summary['impact_count']} impacts, "
     f"max penetration {summary['max_penetration'] * 1e6:.1f} µm, "
     f"peak normal force {summary['peak_normal_force']:.0f} N"
 )

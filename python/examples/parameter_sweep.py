@@ -30,7 +30,7 @@ def peak_force(rpm: float) -> "tuple[float, int, float]":
 
     model = linkdyn.load(MODEL, set={"drivers.motor.speed_rpm": rpm})
     joint = model.run(revs=2, dt=1e-4).summary["clearance_joints"][0]
-    return rpm, joint["impacts"], joint["peak_normal_force"]
+    return rpm, joint["impact_count"], joint["peak_normal_force"]
 
 
 if __name__ == "__main__":

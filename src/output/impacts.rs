@@ -7,21 +7,22 @@ use crate::simulation::{Provenance, RunSummary};
 pub const IMPACTS_HEADER: &str =
     "joint,index,t,driver_angle,impact_velocity,peak_normal_force,peak_penetration,duration";
 
-/// The impact log of a run as CSV text: `#` provenance lines, the header
+/// The impact log of a run as CSV text: the header
 /// `joint,index,t,driver_angle,impact_velocity,peak_normal_force,peak_penetration,duration`,
-/// then one row per impact, joints in model order and impacts in time order (SI units: s, rad,
+/// the `#` provenance lines, then one row per impact, joints in model order and impacts in time order (SI units: s, rad,
 /// m/s, N, m; see [`Impact`](crate::simulation::Impact)). An empty `duration` marks a contact
 /// still open at the end of the run, an empty `driver_angle` a model without exactly one
-/// driver. A run without impacts has the head only.
+/// driver. A run without impacts has the header and the provenance only.
 pub fn impacts_csv(provenance: &Provenance, summary: &RunSummary) -> String {
-    let mut text = String::new();
+    // The header first, then the provenance, as in every CSV linkdyn writes: readers that
+    // take names from the first line and skip `#` lines (NumPy, pandas) read it as it is.
+    let mut text = String::from(IMPACTS_HEADER);
+    text.push('\n');
     for line in provenance.lines() {
         text.push_str("# ");
         text.push_str(&line);
         text.push('\n');
     }
-    text.push_str(IMPACTS_HEADER);
-    text.push('\n');
     let opt = |v: Option<f64>| v.map(format_number).unwrap_or_default();
     for joint in &summary.clearance_joints {
         let name = if joint.joint.contains([',', '"', '\n', '\r']) {
