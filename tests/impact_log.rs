@@ -430,7 +430,13 @@ fn run_writes_the_impact_log_beside_the_csv_and_prints_permanent_contact() {
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert!(result.status.success(), "{stderr}");
     assert!(
-        stderr.contains("clearance joint B: permanent contact since t = 0.0246"),
+        stderr.contains("\ndriver motor: 250 rpm = 26.18 rad/s\n"),
+        "the speed in both units: {stderr}"
+    );
+    assert!(
+        stderr.contains(
+            "clearance joint B: in permanent contact since t = 0.024604 s (from impact 22 of 22 to the end of the run, 0.4554 s; contact counts as permanent when it lasts at least 0.24 s, one driver turn)"
+        ),
         "{stderr}"
     );
     let text = std::fs::read_to_string(dir.join("r.impacts.csv"))
