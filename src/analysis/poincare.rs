@@ -316,7 +316,8 @@ fn run_settling<F: Formulation>(
     let mut points = Vec::with_capacity(section.n_points);
     let mut transient_points = Vec::new();
     let mut k = first.unwrap_or(0);
-    let finished = |first: Option<usize>, k: usize| first.is_some_and(|f0| k >= f0 + section.n_points);
+    let finished =
+        |first: Option<usize>, k: usize| first.is_some_and(|f0| k >= f0 + section.n_points);
     loop {
         while !finished(first, k) && time(k) <= stepper.t_reached() {
             let t = time(k);

@@ -574,16 +574,14 @@ mod tests {
         let Ok(grid) = grid else {
             panic!("{grid:?}");
         };
-        let up = continuation_chunks(&grid, 3, Direction::Up).map(|c| {
-            c.into_iter().map(|c| c.indices).collect::<Vec<_>>()
-        });
+        let up = continuation_chunks(&grid, 3, Direction::Up)
+            .map(|c| c.into_iter().map(|c| c.indices).collect::<Vec<_>>());
         assert_eq!(
             up.ok(),
             Some(vec![vec![0, 1, 2, 3], vec![4, 5, 6], vec![7, 8, 9]])
         );
-        let down = continuation_chunks(&grid, 3, Direction::Down).map(|c| {
-            c.into_iter().map(|c| c.indices).collect::<Vec<_>>()
-        });
+        let down = continuation_chunks(&grid, 3, Direction::Down)
+            .map(|c| c.into_iter().map(|c| c.indices).collect::<Vec<_>>());
         assert_eq!(
             down.ok(),
             Some(vec![vec![9, 8, 7], vec![6, 5, 4], vec![3, 2, 1, 0]])
@@ -616,8 +614,8 @@ mod tests {
             let Ok(pool) = pool else {
                 panic!("no thread pool");
             };
-            let got: Result<Vec<(Direction, SweepPoint<Option<usize>>)>, AnalysisError> =
-                pool.install(|| {
+            let got: Result<Vec<(Direction, SweepPoint<Option<usize>>)>, AnalysisError> = pool
+                .install(|| {
                     run_chunks_until(
                         &grid,
                         &chunks,
@@ -640,7 +638,11 @@ mod tests {
         };
         assert_eq!(from(Direction::Up, 0), None);
         assert_eq!(from(Direction::Up, 3), Some(2));
-        assert_eq!(from(Direction::Up, 4), None, "a chunk's first point starts cold");
+        assert_eq!(
+            from(Direction::Up, 4),
+            None,
+            "a chunk's first point starts cold"
+        );
         assert_eq!(from(Direction::Down, 9), None);
         assert_eq!(from(Direction::Down, 0), Some(1));
         assert_eq!(from(Direction::Down, 3), None);

@@ -496,7 +496,10 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         match &mode.warm {
             Some((n, d)) => format!(
                 ", warm-started in {n} chunks {}",
-                d.iter().map(ToString::to_string).collect::<Vec<_>>().join(" and ")
+                d.iter()
+                    .map(ToString::to_string)
+                    .collect::<Vec<_>>()
+                    .join(" and ")
             ),
             None => String::new(),
         },
@@ -535,7 +538,8 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         })
         .collect();
     let bar = progress_bar(to_run);
-    let branch_of = |d: Option<Direction>| branches.iter().position(|b| b.direction == d).unwrap_or(0);
+    let branch_of =
+        |d: Option<Direction>| branches.iter().position(|b| b.direction == d).unwrap_or(0);
     interrupt::install();
     // A signal only raises the flag: points stop starting, those in flight are written.
     interrupt::defer_to_caller();
@@ -610,7 +614,9 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         };
         return Err(Failure {
             code: EXIT_INTERRUPTED,
-            message: format!("interrupted: {kept} of {total} points are finished in {files}; {next}"),
+            message: format!(
+                "interrupted: {kept} of {total} points are finished in {files}; {next}"
+            ),
         });
     }
 
@@ -640,7 +646,11 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         for (_, p) in results.iter().filter(|(d, _)| *d == b.direction) {
             n += 1;
             match &p.result {
-                Ok(s) => *counts.entry(s.section.period.verdict.to_string()).or_default() += 1,
+                Ok(s) => {
+                    *counts
+                        .entry(s.section.period.verdict.to_string())
+                        .or_default() += 1
+                }
                 Err(e) => failures.push(format!(
                     "point {}{} ({} = {}) failed: {}",
                     p.index,

@@ -287,7 +287,8 @@ pub fn poincare_from(
             let mut f = (**b).clone();
             // The verdict's tolerance from the model's initial state, warm or cold, so that
             // both are judged alike.
-            let propagated = propagated_tolerance(&f, f.t0(), &f.initial_state(), &spec.observe, solver)?;
+            let propagated =
+                propagated_tolerance(&f, f.t0(), &f.initial_state(), &spec.observe, solver)?;
             let warm = match start {
                 // Already at the section's phase: the turns count from here.
                 Some(w) => {
@@ -313,13 +314,31 @@ pub fn poincare_from(
             let (s, propagated) = match other {
                 Built::Dae(b) => {
                     let mut f = (**b).clone();
-                    let p = propagated_tolerance(&f, f.t0(), &f.initial_state(), &spec.observe, solver)?;
-                    (settled_section(&mut f, &options, &columns, solver, settle, &p)?, p)
+                    let p = propagated_tolerance(
+                        &f,
+                        f.t0(),
+                        &f.initial_state(),
+                        &spec.observe,
+                        solver,
+                    )?;
+                    (
+                        settled_section(&mut f, &options, &columns, solver, settle, &p)?,
+                        p,
+                    )
                 }
                 Built::Generalized(b) => {
                     let mut f = (**b).clone();
-                    let p = propagated_tolerance(&f, f.t0(), &f.initial_state(), &spec.observe, solver)?;
-                    (settled_section(&mut f, &options, &columns, solver, settle, &p)?, p)
+                    let p = propagated_tolerance(
+                        &f,
+                        f.t0(),
+                        &f.initial_state(),
+                        &spec.observe,
+                        solver,
+                    )?;
+                    (
+                        settled_section(&mut f, &options, &columns, solver, settle, &p)?,
+                        p,
+                    )
                 }
                 Built::Reduced(_) => unreachable!("handled above"),
             };
@@ -365,7 +384,11 @@ fn settled_section<F: Formulation + Outputs>(
 
 /// Whether the last [`SETTLE_REPEATS`] of `points` each repeat the one k before within
 /// [`SETTLE_TOL_FACTOR`]·ε_j, for some k ≤ [`SETTLE_K_MAX`] (module docs).
-fn has_settled(points: &[Vec<f64>], solver: &crate::solve::SolverOptions, propagated: &[f64]) -> bool {
+fn has_settled(
+    points: &[Vec<f64>],
+    solver: &crate::solve::SolverOptions,
+    propagated: &[f64],
+) -> bool {
     let eps = integration_tolerance(points, solver, Some(propagated));
     let n = points.len();
     (1..=SETTLE_K_MAX).any(|k| {
