@@ -242,14 +242,10 @@ fn both_directions_write_both_branches() {
 fn combinations_that_cannot_work_are_refused_before_any_file() {
     let dir = scratch("refused");
     let out = dir.join("r.csv");
-    let cases: [(&[&str], &str); 9] = [
+    let cases: [(&[&str], &str); 8] = [
         (
             &["--warm-start", "--shard", "1/2"],
             "error: --shard: a warm-started sweep (--warm-start) cannot be sharded: each point starts from the one before it in its chunk, and a shard takes every n-th point; split it with --chunks and --threads instead",
-        ),
-        (
-            &["--warm-start", "--resume"],
-            "error: --resume: a warm-started sweep (--warm-start) cannot be resumed: each point starts from the state the one before it ended in, which the result files do not keep; run the whole sweep again",
         ),
         (
             &["--warm-start", "--formulation", "dae"],
@@ -292,6 +288,76 @@ fn combinations_that_cannot_work_are_refused_before_any_file() {
         err.contains("expected up, down or both, got \"sideways\""),
         "{err}"
     );
+}
+
+/// `text` without the rows (data or verdicts) of the points `drop`.
+fn without(text: &str, drop: &[usize]) -> String {
+    text.split_inclusive('\n')
+        .filter(|l| {
+            l.starts_with('#')
+                || l.split(',')
+                    .next()
+                    .and_then(|i| i.parse::<usize>().ok())
+                    .is_none_or(|i| !drop.contains(&i))
+        })
+        .collect()
+}
+
+#[test]
+fn a_resumed_warm_sweep_equals_an_uninterrupted_one() {
+    // Each point's end state is in its verdict row (`end_state`, exact digits), so a resumed
+    // chunk carries on from its last finished point as if never stopped.
+    let dir = scratch("resume");
+    let out = dir.join("b.csv");
+    let flags = [
+        "--warm-start",
+        "--chunks",
+        "2",
+        "--direction",
+        "both",
+        "--settle",
+    ];
+    let (code, _, err) = sweep(&out, &flags);
+    assert_eq!(code, 0, "{err}");
+    let files = |branch: &str| {
+        [
+            dir.join(format!("b.{branch}.csv")),
+            dir.join(format!("b.{branch}.verdicts.csv")),
+        ]
+    };
+    let whole: Vec<String> = ["up", "down"]
+        .iter()
+        .flat_map(|b| files(b))
+        .map(|f| read(&f))
+        .collect();
+    assert!(
+        whole[1].starts_with(
+            "index,joints.B.clearance,verdict,k,transient_turns,start,end_state,message\n"
+        ),
+        "{}",
+        whole[1]
+    );
+    // As if stopped: up lost points 2, 4, 5 (chunks 0–2 and 3–5), down lost point 1 (its
+    // chunk runs 2, 1, 0: point 0, finished after the gap, runs again).
+    for (branch, drop) in [("up", &[2, 4, 5][..]), ("down", &[1][..])] {
+        for f in files(branch) {
+            std::fs::write(&f, without(&read(&f), drop)).unwrap_or_else(|e| panic!("{e}"));
+        }
+    }
+    let (code, _, err) = sweep(&out, &[&flags[..], &["--resume"]].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("12 points, warm-started in 2 chunks up and down: 7 finished, 5 to run"),
+        "{err}"
+    );
+    let resumed: Vec<String> = ["up", "down"]
+        .iter()
+        .flat_map(|b| files(b))
+        .map(|f| read(&f))
+        .collect();
+    for (a, b) in whole.iter().zip(&resumed) {
+        assert_eq!(a, b, "resumed vs uninterrupted");
+    }
 }
 
 fn reduced(clearance: f64) -> ReducedLagrangian {

@@ -473,6 +473,9 @@ pub fn continuation_chunks(
 /// result and what the next point starts from. `on_done` gets each point as it finishes
 /// (never two at once), and the points are returned sorted by direction, then index.
 ///
+/// `starts` (one per chunk, or empty for none) is what each chunk's first point starts from:
+/// a resumed chunk carries on from its last finished point.
+///
 /// As [`run_points_until`]: once `cancelled()` answers true or `on_done` fails, no further
 /// point starts, and what `on_done` accepted is exactly what is returned.
 ///
@@ -481,6 +484,7 @@ pub fn continuation_chunks(
 pub fn run_chunks_until<T, W, E, C, D, S>(
     grid: &ParameterGrid,
     chunks: &[Chunk],
+    starts: Vec<Option<W>>,
     compute: C,
     on_done: D,
     cancelled: S,
@@ -513,13 +517,16 @@ where
             }
         }
     }
+    let mut starts = starts;
+    starts.resize_with(chunks.len(), || None);
     let stop = AtomicBool::new(false);
     let reporter = Mutex::new((on_done, None::<E>));
     let finished: Vec<Vec<(Direction, SweepPoint<T>)>> = chunks
         .par_iter()
-        .map(|chunk| {
+        .zip(starts)
+        .map(|(chunk, start)| {
             let mut done = Vec::with_capacity(chunk.indices.len());
-            let mut previous: Option<W> = None;
+            let mut previous: Option<W> = start;
             for &index in &chunk.indices {
                 if stop.load(Ordering::Relaxed) || cancelled() {
                     break;
@@ -619,6 +626,7 @@ mod tests {
                     run_chunks_until(
                         &grid,
                         &chunks,
+                        Vec::new(),
                         |_, i, _, previous: Option<&usize>| (previous.copied(), Some(i)),
                         |_, _| Ok(()),
                         || false,

@@ -27,6 +27,14 @@
 //! that `--resume` continues; a second signal stops at once (the finished points are on disk,
 //! a cut-off row is dropped by `--resume`). The files then hold the finished points in order
 //! of completion; `--resume` puts them in index order.
+//!
+//! **Transient detection** (`--settle`): each point's transient ends once its section has
+//! settled (`linkdyn::simulation::analyses::poincare_from`), and the verdicts say after how
+//! many turns (`transient_turns`). **Warm starts** (`--warm-start`, reduced formulation): the
+//! grid is split into `--chunks` contiguous chunks, fixed whatever the threads, each walked in
+//! `--direction` (`both`: `F.up.csv` and `F.down.csv`), every point but a chunk's first
+//! starting from the state the one before it ended in; that state is in the verdicts
+//! (`end_state`), so `--resume` carries a chunk on exactly. `--shard` is refused with it.
 
 use super::poincare::{ModelArgs, bad, provenance_lines};
 use super::{EXIT_FAILED_POINTS, EXIT_INTERRUPTED, EXIT_OUTPUT, Failure, csv_field, interrupt};
@@ -80,7 +88,7 @@ pub struct BifurcationArgs {
     /// Start each point from the state the point before it ended in (on its attractor)
     /// instead of the model's initial state: the grid is split into --chunks contiguous
     /// chunks run in parallel, each swept in --direction from a cold first point. Reduced
-    /// formulation only; not with --shard or --resume.
+    /// formulation only; not with --shard.
     #[arg(long)]
     warm_start: bool,
     /// Chunks of a warm-started sweep (default 8; fixed, so that the result does not depend on
@@ -283,12 +291,6 @@ fn mode(args: &BifurcationArgs, options: &SimulationOptions) -> Result<Mode, Fai
             "a warm-started sweep (`warm-start`) cannot be sharded: each point starts from the one before it in its chunk, and a shard takes every n-th point; split it with --chunks and --threads instead",
         ));
     }
-    if args.resume {
-        return Err(bad(
-            "resume",
-            "a warm-started sweep (`warm-start`) cannot be resumed: each point starts from the state the one before it ended in, which the result files do not keep; run the whole sweep again",
-        ));
-    }
     if options.formulation != FormulationKind::Reduced {
         return Err(bad(
             "warm_start",
@@ -318,10 +320,28 @@ struct Branch {
     verdict_head: String,
 }
 
-/// A point's section and whether it started warm.
+/// A point's section, whether it started warm, and the state it ended in (warm starts).
 struct Outcome {
     section: ModelSection,
     warm: bool,
+    end: Option<[f64; 5]>,
+}
+
+/// What `--resume` keeps of one branch: the finished points, the files' text with them, and
+/// their end states (warm starts).
+struct Kept {
+    finished: BTreeSet<usize>,
+    data: String,
+    verdicts: String,
+    ends: BTreeMap<usize, Vec<f64>>,
+}
+
+/// The `end_state` field of a warm-started point's verdict row (the 7th): its numbers, or
+/// `None` if missing or unreadable.
+fn end_state(line: &str) -> Option<Vec<f64>> {
+    let field = line.split(',').nth(6)?;
+    let y: Option<Vec<f64>> = field.split(' ').map(|v| v.parse().ok()).collect();
+    y.filter(|y| y.len() == 5 && y.iter().all(|v: &f64| v.is_finite()))
 }
 
 /// Runs `bifurcation`. Every check comes before any file is touched: an earlier result is
@@ -435,7 +455,9 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         let head = provenance_lines(base.provenance(), &extra);
         // Header row first, then the provenance (as every result CSV); the whole head is a
         // prefix that `--resume` matches and skips.
-        let verdict_columns = if mode.extended() {
+        let verdict_columns = if mode.warm.is_some() {
+            "verdict,k,transient_turns,start,end_state,message"
+        } else if mode.extended() {
             "verdict,k,transient_turns,start,message"
         } else {
             "verdict,k,message"
@@ -460,36 +482,101 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
     // partial rows are dropped, so that they run again. (A warm-started sweep has one branch
     // per direction and no --resume.)
     let per_point = turns - args.transient;
-    let mut finished = BTreeSet::new();
-    let first = &branches[0];
-    let mut kept = (first.data_head.clone(), first.verdict_head.clone());
-    if args.resume {
-        let data = read_matching(&first.out, &first.data_head)?;
-        let verdict = read_matching(&first.verdicts, &first.verdict_head)?;
-        if let (Some(data), Some(verdict)) = (&data, &verdict) {
-            let rows = rows_by_index(data, first.data_head.len());
-            let marks = rows_by_index(verdict, first.verdict_head.len());
-            finished = marks
-                .iter()
-                .filter(|(i, m)| {
-                    m.len() == 1
-                        && !m.iter().any(|line| is_failed(line))
-                        && rows.get(i).map_or(0, Vec::len) == per_point
-                })
-                .map(|(i, _)| *i)
-                .collect();
-            kept = (
-                joined(&first.data_head, &rows, &finished),
-                joined(&first.verdict_head, &marks, &finished),
-            );
+    let warm_mode = mode.warm.is_some();
+    // Per branch: the finished points and the files' text to keep. A warm-started point also
+    // needs its end state (the next point starts from it).
+    let mut kept: Vec<Kept> = Vec::with_capacity(branches.len());
+    for b in &branches {
+        let mut k = Kept {
+            finished: BTreeSet::new(),
+            data: b.data_head.clone(),
+            verdicts: b.verdict_head.clone(),
+            ends: BTreeMap::new(),
+        };
+        if args.resume {
+            let data = read_matching(&b.out, &b.data_head)?;
+            let verdict = read_matching(&b.verdicts, &b.verdict_head)?;
+            if let (Some(data), Some(verdict)) = (&data, &verdict) {
+                let rows = rows_by_index(data, b.data_head.len());
+                let marks = rows_by_index(verdict, b.verdict_head.len());
+                for (i, m) in &marks {
+                    let [line] = m.as_slice() else {
+                        continue;
+                    };
+                    if is_failed(line) || rows.get(i).map_or(0, Vec::len) != per_point {
+                        continue;
+                    }
+                    if warm_mode {
+                        match end_state(line) {
+                            Some(y) => {
+                                k.ends.insert(*i, y);
+                            }
+                            None => continue,
+                        }
+                    }
+                    k.finished.insert(*i);
+                }
+                if let Some(chunks) = &chunks {
+                    // A chunk carries on after its finished points that run in a row from its
+                    // start; a finished point after a gap (a failed point) runs again.
+                    let mut prefix = BTreeSet::new();
+                    for c in chunks.iter().filter(|c| Some(c.direction) == b.direction) {
+                        prefix.extend(c.indices.iter().take_while(|i| k.finished.contains(i)));
+                    }
+                    k.finished = prefix;
+                }
+                k.data = joined(&b.data_head, &rows, &k.finished);
+                k.verdicts = joined(&b.verdict_head, &marks, &k.finished);
+            }
+        }
+        kept.push(k);
+    }
+    let done: usize = kept.iter().map(|k| k.finished.len()).sum();
+    // Independent points: those of the shard not finished. Warm-started: each chunk's points
+    // after its finished ones, from the last finished one's end state.
+    let mut todo = Vec::new();
+    let mut starts = Vec::new();
+    let mut runs: Vec<analysis::Chunk> = Vec::new();
+    match &chunks {
+        None => {
+            let done: Vec<usize> = kept[0].finished.iter().copied().collect();
+            todo = analysis::remaining(&grid, args.shard.as_ref(), &done)?;
+        }
+        Some(chunks) => {
+            for c in chunks {
+                let k = &kept[branches
+                    .iter()
+                    .position(|b| b.direction == Some(c.direction))
+                    .unwrap_or(0)];
+                let n_done = c
+                    .indices
+                    .iter()
+                    .take_while(|i| k.finished.contains(i))
+                    .count();
+                let start = match n_done.checked_sub(1).map(|j| c.indices[j]) {
+                    Some(last) => {
+                        let y = k.ends.get(&last).map_or(&[][..], Vec::as_slice);
+                        let value = grid.value(last).unwrap_or(f64::NAN);
+                        Some(sweep.warm_state(value, y)?)
+                    }
+                    None => None,
+                };
+                let rest = c.indices[n_done..].to_vec();
+                if !rest.is_empty() {
+                    todo.extend(&rest);
+                    starts.push(start);
+                    runs.push(analysis::Chunk {
+                        direction: c.direction,
+                        indices: rest,
+                    });
+                }
+            }
         }
     }
-    let done: Vec<usize> = finished.iter().copied().collect();
-    let todo = analysis::remaining(&grid, args.shard.as_ref(), &done)?;
-    let total = (done.len() + todo.len()) * branches.len();
-    let to_run = todo.len() * branches.len();
+    let to_run = todo.len();
+    let total = done + to_run;
     eprintln!(
-        "{total} points{}{}: {} finished, {to_run} to run ({} turns each{}, {} recorded)",
+        "{total} points{}{}: {done} finished, {to_run} to run ({}{turns} turns each{}, {per_point} recorded)",
         args.shard
             .map(|s| format!(" in shard {s}"))
             .unwrap_or_default(),
@@ -503,38 +590,27 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
             ),
             None => String::new(),
         },
-        done.len(),
-        if mode.settle.is_some() { "at most" } else { "" }.to_string() + &format!(" {turns}"),
         if mode.settle.is_some() {
-            " with the transient ended once settled"
+            "at most "
         } else {
             ""
         },
-        per_point
+        if mode.settle.is_some() {
+            ", the transient ended once settled"
+        } else {
+            ""
+        },
     );
 
     let mut appenders: Vec<Appender> = branches
         .iter()
-        .enumerate()
-        .map(|(k, b)| Appender {
-            data: Pending::new(
-                &b.out,
-                if k == 0 {
-                    kept.0.clone()
-                } else {
-                    b.data_head.clone()
-                },
-            ),
-            verdicts: Pending::new(
-                &b.verdicts,
-                if k == 0 {
-                    kept.1.clone()
-                } else {
-                    b.verdict_head.clone()
-                },
-            ),
+        .zip(&kept)
+        .map(|(b, k)| Appender {
+            data: Pending::new(&b.out, k.data.clone()),
+            verdicts: Pending::new(&b.verdicts, k.verdicts.clone()),
             turns: args.transient..turns,
             extended: mode.extended(),
+            warm: warm_mode,
         })
         .collect();
     let bar = progress_bar(to_run);
@@ -555,6 +631,7 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
                         .map(|r| Outcome {
                             section: r.section,
                             warm: r.warm,
+                            end: None,
                         })
                         .map_err(Failure::from)
                 },
@@ -568,14 +645,16 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
                 interrupt::requested,
             )
             .map(|r| r.into_iter().map(|p| (None, p)).collect()),
-            Some(chunks) => analysis::run_chunks_until(
+            Some(_) => analysis::run_chunks_until(
                 &grid,
-                chunks,
+                &runs,
+                starts,
                 |_, _, p, previous| match sweep.point_from(p, settle, previous) {
                     Ok(r) => (
                         Ok(Outcome {
                             section: r.section,
                             warm: r.warm,
+                            end: r.end.as_ref().map(|w| w.y),
                         }),
                         r.end,
                     ),
@@ -603,19 +682,12 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         .join(", ");
     if results.len() < to_run {
         // Only a signal leaves points out of a successful return.
-        let kept = done.len() + results.len();
-        let next = if mode.warm.is_some() {
-            "a warm-started sweep cannot be resumed: run it again".to_string()
-        } else {
-            format!(
-                "run the same command with --resume to compute the {} left",
-                total - kept
-            )
-        };
+        let kept = done + results.len();
         return Err(Failure {
             code: EXIT_INTERRUPTED,
             message: format!(
-                "interrupted: {kept} of {total} points are finished in {files}; {next}"
+                "interrupted: {kept} of {total} points are finished in {files}; run the same command with --resume to compute the {} left",
+                total - kept
             ),
         });
     }
@@ -625,7 +697,7 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
     for (k, b) in branches.iter().enumerate() {
         appenders[k].data.open()?;
         appenders[k].verdicts.open()?;
-        let mut all: BTreeSet<usize> = finished.clone();
+        let mut all: BTreeSet<usize> = kept[k].finished.clone();
         all.extend(
             results
                 .iter()
@@ -683,10 +755,16 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         failures.push(format!("{more} more failed"));
     }
     let retry = if mode.warm.is_some() {
-        // The next point of a failed one's chunk started cold (`start` = cold).
+        // The next point of a failed one's chunk started cold (`start` = cold): it runs again
+        // too, from the retried point's end.
         format!(
-            "run the sweep again to retry {} (a warm-started sweep cannot be resumed)",
-            if n_failed == 1 { "it" } else { "them" }
+            "run the same command with --resume to retry {} and the rest of {}",
+            if n_failed == 1 { "it" } else { "them" },
+            if n_failed == 1 {
+                "its chunk"
+            } else {
+                "their chunks"
+            }
         )
     } else {
         format!(
@@ -818,6 +896,8 @@ struct Appender<'a> {
     turns: std::ops::Range<usize>,
     /// Verdict rows with `transient_turns,start`.
     extended: bool,
+    /// Verdict rows with `end_state` too.
+    warm: bool,
 }
 
 impl Appender<'_> {
@@ -826,7 +906,11 @@ impl Appender<'_> {
         let value = format_number(p.parameter);
         let mut rows = String::new();
         let mark = match &p.result {
-            Ok(Outcome { section: s, warm }) => {
+            Ok(Outcome {
+                section: s,
+                warm,
+                end,
+            }) => {
                 for (turn, point) in s.turns.iter().zip(&s.section.points) {
                     for v in point {
                         rows.push_str(&format!("{index},{value},{turn},{}\n", format_number(*v)));
@@ -836,7 +920,14 @@ impl Appender<'_> {
                 if self.extended {
                     let transient = s.turns.first().copied().unwrap_or(self.turns.start);
                     let start = if *warm { "warm" } else { "cold" };
-                    format!("{index},{value},{name},{k},{transient},{start},\n")
+                    let end = if self.warm {
+                        let y: Vec<String> =
+                            end.iter().flatten().map(|v| format_number(*v)).collect();
+                        format!("{},", y.join(" "))
+                    } else {
+                        String::new()
+                    };
+                    format!("{index},{value},{name},{k},{transient},{start},{end}\n")
                 } else {
                     format!("{index},{value},{name},{k},\n")
                 }
@@ -846,7 +937,9 @@ impl Appender<'_> {
                     rows.push_str(&format!("{index},{value},{turn},NaN\n"));
                 }
                 let message = csv_field(&escape_line(&e.message));
-                if self.extended {
+                if self.warm {
+                    format!("{index},{value},{FAILED},0,,,,{message}\n")
+                } else if self.extended {
                     format!("{index},{value},{FAILED},0,,,{message}\n")
                 } else {
                     format!("{index},{value},{FAILED},0,{message}\n")

@@ -289,10 +289,14 @@ pub fn poincare_from(
             // both are judged alike.
             let propagated =
                 propagated_tolerance(&f, f.t0(), &f.initial_state(), &spec.observe, solver)?;
+            // The section's phase in the first turn: where a warm start begins, and the time
+            // the end state is read at (the same crank angle as the last point's, and the
+            // same time whether the state comes from this run or from a result file).
+            let t_phase = f.t0() + spec.phase / omega;
             let warm = match start {
                 // Already at the section's phase: the turns count from here.
                 Some(w) => {
-                    let ok = f.start_from(f.t0() + spec.phase / omega, w).is_ok();
+                    let ok = f.start_from(t_phase, w).is_ok();
                     if ok {
                         options.phase_offset = 0.0;
                     }
@@ -301,7 +305,7 @@ pub fn poincare_from(
                 None => false,
             };
             let s = settled_section(&mut f, &options, &columns, solver, settle, &propagated)?;
-            let end = Some(f.warm_state(s.end.0, &s.end.1));
+            let end = Some(f.warm_state(t_phase, &s.end.1));
             (s, propagated, warm, end)
         }
         other => {
@@ -752,6 +756,23 @@ impl Sweep<'_> {
     /// One point: load, build, section.
     pub fn point(&self, value: f64) -> SweepResult {
         poincare(&self.simulation(value)?, &self.section)
+    }
+
+    /// The [`WarmState`] of the model of parameter `value` in state `y` at the section's phase
+    /// (the state a point's run ended in, as a result file keeps it), to start the next point
+    /// from.
+    ///
+    /// Errors: the model cannot be loaded or built, or is not of the reduced formulation.
+    pub fn warm_state(&self, value: f64, y: &[f64]) -> Result<WarmState> {
+        let sim = self.simulation(value)?;
+        let omega = driver_speed(&sim.model, "revs")?;
+        match &sim.formulation {
+            Built::Reduced(f) => Ok(f.warm_state(f.t0() + self.section.phase / omega, y)),
+            _ => Err(Error::settings(
+                "warm-start",
+                "warm starts need the reduced formulation (--formulation reduced)",
+            )),
+        }
     }
 
     /// One point with transient detection and a warm start ([`poincare_from`]).
