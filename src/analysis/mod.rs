@@ -38,6 +38,6 @@ pub use poincare::{
 };
 pub use spectrum::{Peak, Spectrum, SpectrumOptions, Window, amplitude_spectrum};
 pub use sweep::{
-    Chunk, Direction, MAX_POINTS, ParameterGrid, Shard, SweepPoint, continuation_chunks, merge,
-    remaining, run_chunks_until, run_points, run_points_until,
+    Chunk, ChunkPoints, Direction, MAX_POINTS, ParameterGrid, Shard, SweepPoint,
+    continuation_chunks, merge, remaining, run_chunks_until, run_points, run_points_until,
 };

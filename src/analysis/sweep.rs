@@ -467,6 +467,10 @@ pub fn continuation_chunks(
     Ok(chunks)
 }
 
+/// The points of a continuation sweep with their directions, as [`run_chunks_until`] returns
+/// them.
+pub type ChunkPoints<T> = Vec<(Direction, SweepPoint<T>)>;
+
 /// Runs `chunks` in parallel (rayon's current pool), the points of each in order:
 /// `compute(direction, index, parameter, previous)` gets what the point before it in its
 /// chunk returned as its second value (`None` for a chunk's first point), and returns its
@@ -488,7 +492,7 @@ pub fn run_chunks_until<T, W, E, C, D, S>(
     compute: C,
     on_done: D,
     cancelled: S,
-) -> Result<Vec<(Direction, SweepPoint<T>)>, E>
+) -> Result<ChunkPoints<T>, E>
 where
     T: Send,
     W: Send,
@@ -521,7 +525,7 @@ where
     starts.resize_with(chunks.len(), || None);
     let stop = AtomicBool::new(false);
     let reporter = Mutex::new((on_done, None::<E>));
-    let finished: Vec<Vec<(Direction, SweepPoint<T>)>> = chunks
+    let finished: Vec<ChunkPoints<T>> = chunks
         .par_iter()
         .zip(starts)
         .map(|(chunk, start)| {
@@ -566,7 +570,7 @@ where
     if let Some(e) = first_error {
         return Err(e);
     }
-    let mut results: Vec<(Direction, SweepPoint<T>)> = finished.into_iter().flatten().collect();
+    let mut results: ChunkPoints<T> = finished.into_iter().flatten().collect();
     results.sort_by_key(|(d, p)| (*d, p.index));
     Ok(results)
 }
@@ -621,17 +625,16 @@ mod tests {
             let Ok(pool) = pool else {
                 panic!("no thread pool");
             };
-            let got: Result<Vec<(Direction, SweepPoint<Option<usize>>)>, AnalysisError> = pool
-                .install(|| {
-                    run_chunks_until(
-                        &grid,
-                        &chunks,
-                        Vec::new(),
-                        |_, i, _, previous: Option<&usize>| (previous.copied(), Some(i)),
-                        |_, _| Ok(()),
-                        || false,
-                    )
-                });
+            let got: Result<ChunkPoints<Option<usize>>, AnalysisError> = pool.install(|| {
+                run_chunks_until(
+                    &grid,
+                    &chunks,
+                    Vec::new(),
+                    |_, i, _, previous: Option<&usize>| (previous.copied(), Some(i)),
+                    |_, _| Ok(()),
+                    || false,
+                )
+            });
             got.unwrap_or_default()
                 .into_iter()
                 .map(|(d, p)| (d, p.index, p.result))

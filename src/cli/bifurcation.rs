@@ -620,57 +620,56 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
     // A signal only raises the flag: points stop starting, those in flight are written.
     interrupt::defer_to_caller();
     let settle = mode.settle;
-    let results: Result<Vec<(Option<Direction>, SweepPoint<PointResult>)>, Failure> =
-        pool.install(|| match &chunks {
-            None => analysis::run_points_until(
-                &grid,
-                &todo,
-                |_, p| {
-                    sweep
-                        .point_from(p, settle, None)
-                        .map(|r| Outcome {
-                            section: r.section,
-                            warm: r.warm,
-                            end: None,
-                        })
-                        .map_err(Failure::from)
-                },
-                |p| {
-                    appenders[0].append(p)?;
-                    if let Some(bar) = &bar {
-                        bar.inc(1);
-                    }
-                    Ok(())
-                },
-                interrupt::requested,
-            )
-            .map(|r| r.into_iter().map(|p| (None, p)).collect()),
-            Some(_) => analysis::run_chunks_until(
-                &grid,
-                &runs,
-                starts,
-                |_, _, p, previous| match sweep.point_from(p, settle, previous) {
-                    Ok(r) => (
-                        Ok(Outcome {
-                            section: r.section,
-                            warm: r.warm,
-                            end: r.end.as_ref().map(|w| w.y),
-                        }),
-                        r.end,
-                    ),
-                    Err(e) => (Err(Failure::from(e)), None),
-                },
-                |d, p| {
-                    appenders[branch_of(Some(d))].append(p)?;
-                    if let Some(bar) = &bar {
-                        bar.inc(1);
-                    }
-                    Ok(())
-                },
-                interrupt::requested,
-            )
-            .map(|r| r.into_iter().map(|(d, p)| (Some(d), p)).collect()),
-        });
+    let results: Result<Vec<BranchPoint>, Failure> = pool.install(|| match &chunks {
+        None => analysis::run_points_until(
+            &grid,
+            &todo,
+            |_, p| {
+                sweep
+                    .point_from(p, settle, None)
+                    .map(|r| Outcome {
+                        section: r.section,
+                        warm: r.warm,
+                        end: None,
+                    })
+                    .map_err(Failure::from)
+            },
+            |p| {
+                appenders[0].append(p)?;
+                if let Some(bar) = &bar {
+                    bar.inc(1);
+                }
+                Ok(())
+            },
+            interrupt::requested,
+        )
+        .map(|r| r.into_iter().map(|p| (None, p)).collect()),
+        Some(_) => analysis::run_chunks_until(
+            &grid,
+            &runs,
+            starts,
+            |_, _, p, previous| match sweep.point_from(p, settle, previous) {
+                Ok(r) => (
+                    Ok(Outcome {
+                        section: r.section,
+                        warm: r.warm,
+                        end: r.end.as_ref().map(|w| w.y),
+                    }),
+                    r.end,
+                ),
+                Err(e) => (Err(Failure::from(e)), None),
+            },
+            |d, p| {
+                appenders[branch_of(Some(d))].append(p)?;
+                if let Some(bar) = &bar {
+                    bar.inc(1);
+                }
+                Ok(())
+            },
+            interrupt::requested,
+        )
+        .map(|r| r.into_iter().map(|(d, p)| (Some(d), p)).collect()),
+    });
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
@@ -799,6 +798,8 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
 
 /// A point's outcome: its section, or why it failed.
 type PointResult = Result<Outcome, Failure>;
+/// A finished point with its branch (`None`: independent starts).
+type BranchPoint = (Option<Direction>, SweepPoint<PointResult>);
 
 /// Whether a verdict row is that of a failed point.
 fn is_failed(line: &str) -> bool {
