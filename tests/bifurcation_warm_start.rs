@@ -163,6 +163,26 @@ fn warm_starts_find_the_attractor_of_independent_starts_whatever_the_threads() {
 }
 
 #[test]
+fn the_default_chunks_fit_a_small_grid() {
+    // One chunk per 25 points, at least one: the 6 points are one chunk, walked up.
+    let dir = scratch("default-chunks");
+    let out = dir.join("d.csv");
+    let (code, _, err) = sweep(&out, &["--warm-start"]);
+    assert_eq!(code, 0, "{err}");
+    let marks = out.with_extension("verdicts.csv");
+    assert!(
+        read(&marks).contains("# warm_start_chunks = 1\n"),
+        "{}",
+        read(&marks)
+    );
+    let starts: Vec<String> = verdicts(&marks)
+        .into_values()
+        .map(|r| r[5].clone())
+        .collect();
+    assert_eq!(starts, ["cold", "warm", "warm", "warm", "warm", "warm"]);
+}
+
+#[test]
 fn settling_ends_the_transient_early_but_not_before_the_minimum() {
     let dir = scratch("settle");
     for min in [3, 12] {

@@ -91,8 +91,8 @@ pub struct BifurcationArgs {
     /// formulation only; not with --shard.
     #[arg(long)]
     warm_start: bool,
-    /// Chunks of a warm-started sweep (default 8; fixed, so that the result does not depend on
-    /// --threads). 1 follows one branch over the whole range.
+    /// Chunks of a warm-started sweep (default: one per 25 points, at most 8; fixed, so that
+    /// the result does not depend on --threads). 1 follows one branch over the whole range.
     #[arg(long)]
     chunks: Option<usize>,
     /// Direction of a warm-started sweep: up (from --from to --to), down, or both (two
@@ -131,8 +131,11 @@ fn parse_direction(s: &str) -> Result<Directions, String> {
     }
 }
 
-/// Chunks of a warm-started sweep unless --chunks says otherwise.
-const DEFAULT_CHUNKS: usize = 8;
+/// Chunks of a warm-started sweep unless --chunks says otherwise: one per this many points
+/// (a cold start costs a few turns more than a warm one, so short chunks waste little)…
+const POINTS_PER_CHUNK: usize = 25;
+/// … and at most this many (the Fig. 6a grid of 200 points: 8).
+const MAX_DEFAULT_CHUNKS: usize = 8;
 /// Fewest transient turns with --settle unless --transient-min says otherwise.
 const DEFAULT_TRANSIENT_MIN: usize = 5;
 
@@ -249,7 +252,11 @@ impl Mode {
 
 /// Checks the options of transient detection and warm starts against each other and the
 /// formulation (before any work).
-fn mode(args: &BifurcationArgs, options: &SimulationOptions) -> Result<Mode, Failure> {
+fn mode(
+    args: &BifurcationArgs,
+    options: &SimulationOptions,
+    n_points: usize,
+) -> Result<Mode, Failure> {
     if !args.settle && args.transient_min.is_some() {
         return Err(bad(
             "transient_min",
@@ -300,7 +307,9 @@ fn mode(args: &BifurcationArgs, options: &SimulationOptions) -> Result<Mode, Fai
             ),
         ));
     }
-    let chunks = args.chunks.unwrap_or(DEFAULT_CHUNKS);
+    let chunks = args
+        .chunks
+        .unwrap_or((n_points / POINTS_PER_CHUNK).clamp(1, MAX_DEFAULT_CHUNKS));
     let directions = match args.direction.unwrap_or(Directions::One(Direction::Up)) {
         Directions::One(d) => vec![d],
         Directions::Both => vec![Direction::Up, Direction::Down],
@@ -379,7 +388,7 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         end: EndTime::DriverTurns(turns as f64),
         ..args.model.options()?
     };
-    let mode = mode(args, &options)?;
+    let mode = mode(args, &options, grid.len())?;
     let chunks = match &mode.warm {
         Some((n, directions)) => {
             let mut all = Vec::new();

@@ -246,8 +246,9 @@ pub fn poincare(sim: &Simulation, spec: &SectionSpec) -> Result<ModelSection> {
 }
 
 /// [`poincare`] with transient detection (`settle`) and a warm start (`start`, reduced
-/// formulation only; module docs "Transient detection and warm starts"). With neither it is
-/// [`poincare`] itself. Observes output columns only (`spec.observe` not empty).
+/// formulation only; module docs "Transient detection and warm starts"), returning the state
+/// at the last point too (reduced formulation). With neither, the section is [`poincare`]'s,
+/// bit for bit. Transient detection and warm starts need output columns (`spec.observe`).
 ///
 /// Errors: as [`poincare`]; [`Error::Settings`] for `warm-start` with another formulation and
 /// for `observe` when no column is named.
@@ -257,22 +258,20 @@ pub fn poincare_from(
     settle: Option<Settle>,
     start: Option<&WarmState>,
 ) -> Result<PointRun> {
-    if settle.is_none() && start.is_none() {
-        let section = poincare(sim, spec)?;
-        let end = None;
+    if spec.observe.is_empty() {
+        if settle.is_some() || start.is_some() {
+            return Err(Error::settings(
+                "observe",
+                "transient detection and warm starts need at least one output column",
+            ));
+        }
         return Ok(PointRun {
-            section,
+            section: poincare(sim, spec)?,
             warm: false,
-            end,
+            end: None,
         });
     }
     let omega = spec.check(sim)?;
-    if spec.observe.is_empty() {
-        return Err(Error::settings(
-            "observe",
-            "transient detection and warm starts need at least one output column",
-        ));
-    }
     let tau = std::f64::consts::TAU;
     let solver = sim.solver_options();
     let columns: Vec<&str> = spec.observe.iter().map(String::as_str).collect();
