@@ -4,6 +4,7 @@
 //! | function | what |
 //! |---|---|
 //! | [`poincare`] | section once per driver turn at the exact instants, with the period verdict |
+//! | [`poincare_from`] | the same with transient detection and a warm start from another point's end |
 //! | [`spectrum`] | amplitude spectrum of an output column, peaks as multiples of the driving frequency |
 //! | [`phase`] | phase-portrait data of an output column (its rate column or differences) |
 //! | [`lyapunov`] | largest Lyapunov exponent (bookkeeping states masked, states scaled) |
