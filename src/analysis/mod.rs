@@ -32,8 +32,12 @@ pub use error::AnalysisError;
 pub use lyapunov::{LyapunovEstimate, LyapunovOptions, largest_lyapunov};
 pub use period::{PeriodAnalysis, PeriodOptions, PeriodVerdict, period_verdict};
 pub use phase::{PhasePortrait, RateSource, phase_portrait};
-pub use poincare::{PoincareSection, SectionOptions, section_outputs, section_states};
+pub use poincare::{
+    PoincareSection, SectionOptions, SettledSection, Settling, section_outputs,
+    section_outputs_settling, section_states,
+};
 pub use spectrum::{Peak, Spectrum, SpectrumOptions, Window, amplitude_spectrum};
 pub use sweep::{
-    MAX_POINTS, ParameterGrid, Shard, SweepPoint, merge, remaining, run_points, run_points_until,
+    Chunk, ChunkPoints, Direction, MAX_POINTS, ParameterGrid, Shard, SweepPoint,
+    continuation_chunks, merge, remaining, run_chunks_until, run_points, run_points_until,
 };

@@ -178,6 +178,96 @@ fn validate(section: &SectionOptions, t0: f64) -> Result<(), AnalysisError> {
     Ok(())
 }
 
+/// Transient detection for [`section_outputs_settling`]: the transient ends at the first turn
+/// τ with `min_transient` ≤ τ ≤ n_transient for which `settled` answers true on the points of
+/// turns 0 … τ − 1 (the section at every turn from the start), and at n_transient if none does.
+pub struct Settling<'a> {
+    /// Fewest transient turns, whatever `settled` says.
+    pub min_transient: usize,
+    /// Whether the points so far (turn 0 first) have settled.
+    pub settled: &'a mut dyn FnMut(&[Vec<f64>]) -> bool,
+}
+
+/// A section with the turns its transient took and the state at its last point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SettledSection {
+    /// The section; its points are turns `transient`, `transient + 1`, ….
+    pub section: PoincareSection,
+    /// Transient turns dropped before the first point.
+    pub transient: usize,
+    /// Time (s) and whole state at the last point.
+    pub end: (f64, Vec<f64>),
+}
+
+/// [`section_outputs`] whose transient ends as soon as `settling` says the points have settled
+/// (never before its `min_transient`, never after `section.n_transient` turns), with the turns
+/// it took and the state at the last point (to start a neighbouring run from).
+///
+/// Errors: as [`section_outputs`].
+pub fn section_outputs_settling<F: Formulation + Outputs>(
+    f: &mut F,
+    t0: f64,
+    y0: &[f64],
+    section: &SectionOptions,
+    columns: &[&str],
+    opts: &SolverOptions,
+    settling: Option<Settling<'_>>,
+) -> Result<SettledSection, AnalysisError> {
+    let all = f.output_names();
+    let chosen: Vec<usize> = if columns.is_empty() {
+        (0..all.len()).collect()
+    } else {
+        columns
+            .iter()
+            .map(|c| {
+                all.iter().position(|a| a == c).ok_or_else(|| {
+                    AnalysisError::invalid(
+                        "columns",
+                        format!(
+                            "no output column \"{c}\"; the columns are {}",
+                            all.join(", ")
+                        ),
+                    )
+                })
+            })
+            .collect::<Result<_, _>>()?
+    };
+    let names = chosen.iter().map(|&i| all[i].clone()).collect();
+    let mut row = Vec::new();
+    run_settling(
+        f,
+        t0,
+        y0,
+        section,
+        opts,
+        names,
+        |f, t, y, out| {
+            f.outputs_into(t, y, &mut row)
+                .map_err(|source| AnalysisError::Outputs {
+                    analysis: WHAT,
+                    t,
+                    source,
+                })?;
+            out.clear();
+            for &i in &chosen {
+                let v = row.get(i).copied().ok_or_else(|| {
+                    AnalysisError::invalid(
+                        "columns",
+                        format!(
+                            "the formulation wrote {} output columns at t = {t} s but names {}",
+                            row.len(),
+                            all.len()
+                        ),
+                    )
+                })?;
+                out.push(v);
+            }
+            Ok(())
+        },
+        settling,
+    )
+}
+
 /// Integrates once and calls `observe(f, t_k, y(t_k), out)` at every section time.
 fn run<F: Formulation>(
     f: &mut F,
@@ -186,33 +276,69 @@ fn run<F: Formulation>(
     section: &SectionOptions,
     opts: &SolverOptions,
     names: Vec<String>,
-    mut observe: impl FnMut(&F, f64, &[f64], &mut Vec<f64>) -> Result<(), AnalysisError>,
+    observe: impl FnMut(&F, f64, &[f64], &mut Vec<f64>) -> Result<(), AnalysisError>,
 ) -> Result<PoincareSection, AnalysisError> {
+    run_settling(f, t0, y0, section, opts, names, observe, None).map(|s| s.section)
+}
+
+/// [`run`] with transient detection: while `settling` has not ended the transient, the point
+/// of every turn is observed and handed to it.
+#[allow(clippy::too_many_arguments)]
+fn run_settling<F: Formulation>(
+    f: &mut F,
+    t0: f64,
+    y0: &[f64],
+    section: &SectionOptions,
+    opts: &SolverOptions,
+    names: Vec<String>,
+    mut observe: impl FnMut(&F, f64, &[f64], &mut Vec<f64>) -> Result<(), AnalysisError>,
+    mut settling: Option<Settling<'_>>,
+) -> Result<SettledSection, AnalysisError> {
     validate(section, t0)?;
     let solve = |source| AnalysisError::Solve {
         analysis: WHAT,
         source,
     };
-    let k_first = section.n_transient;
-    let k_end = k_first + section.n_points;
+    let max_transient = section.n_transient;
+    // The first recorded turn, once known: at once without detection (or with nothing to
+    // detect), else when the transient points have settled.
+    let mut first = if settling.is_some() && max_transient > 0 {
+        None
+    } else {
+        Some(max_transient)
+    };
     let time = |k: usize| t0 + section.phase_offset + k as f64 * section.period;
-    let t_end = time(k_end - 1);
+    let t_end = time(max_transient + section.n_points - 1);
     let mut stepper = Stepper::new(f, t0, y0, t_end, opts).map_err(solve)?;
     let mut y = vec![0.0; stepper.n_states()];
     let mut out = Vec::new();
     let mut times = Vec::with_capacity(section.n_points);
     let mut points = Vec::with_capacity(section.n_points);
-    let mut k = k_first;
+    let mut transient_points = Vec::new();
+    let mut k = first.unwrap_or(0);
+    let finished =
+        |first: Option<usize>, k: usize| first.is_some_and(|f0| k >= f0 + section.n_points);
     loop {
-        while k < k_end && time(k) <= stepper.t_reached() {
+        while !finished(first, k) && time(k) <= stepper.t_reached() {
             let t = time(k);
             stepper.interpolate(t, &mut y).map_err(solve)?;
             observe(stepper.formulation(), t, &y, &mut out)?;
-            times.push(t);
-            points.push(out.clone());
+            if first.is_some() {
+                times.push(t);
+                points.push(out.clone());
+            } else {
+                transient_points.push(out.clone());
+                let ends = k + 1 >= max_transient
+                    || settling.as_mut().is_some_and(|s| {
+                        k + 1 >= s.min_transient && (s.settled)(&transient_points)
+                    });
+                if ends {
+                    first = Some(k + 1);
+                }
+            }
             k += 1;
         }
-        if k >= k_end {
+        if finished(first, k) {
             break;
         }
         if stepper.step().map_err(solve)? == Stop::EndReached && stepper.t_reached() < time(k) {
@@ -225,11 +351,15 @@ fn run<F: Formulation>(
             break;
         }
     }
-    Ok(PoincareSection {
-        names,
-        times,
-        points,
-        stats: stepper.stats().clone(),
+    Ok(SettledSection {
+        section: PoincareSection {
+            names,
+            times,
+            points,
+            stats: stepper.stats().clone(),
+        },
+        transient: first.unwrap_or(max_transient),
+        end: (time(k.saturating_sub(1)), y),
     })
 }
 

@@ -24,6 +24,12 @@
 //!   may append to a file), and returns the results in grid order. [`run_points_until`] also
 //!   takes a cancellation check: once it answers true, no further point starts, the points in
 //!   flight finish and are reported, and the finished points are returned.
+//! * **Continuation.** [`continuation_chunks`] splits the grid into `n` contiguous chunks of
+//!   nearly equal length (the first `len mod n` one point longer), each in the sweep's
+//!   direction: up (ascending index) or down (descending). [`run_chunks_until`] runs the chunks
+//!   in parallel, the points of each in order, handing each point what the one before it in
+//!   its chunk left (a warm start); the first point of a chunk starts with nothing. The chunks
+//!   are fixed by `n`, not by the threads, so the results do not depend on the threads.
 
 use std::collections::BTreeSet;
 use std::fmt;
@@ -399,9 +405,260 @@ where
     Ok(results)
 }
 
+/// Direction of a continuation sweep through the grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Direction {
+    /// Ascending index (parameter from `from` to `to`).
+    Up,
+    /// Descending index.
+    Down,
+}
+
+impl fmt::Display for Direction {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Direction::Up => "up",
+            Direction::Down => "down",
+        })
+    }
+}
+
+/// A contiguous run of grid points swept in one direction, each point starting from the one
+/// before it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Chunk {
+    /// The direction.
+    pub direction: Direction,
+    /// Grid indices in the order they run.
+    pub indices: Vec<usize>,
+}
+
+/// The grid split into `n_chunks` contiguous chunks in `direction` (module documentation).
+///
+/// Errors: `n_chunks` zero or above the number of points.
+pub fn continuation_chunks(
+    grid: &ParameterGrid,
+    n_chunks: usize,
+    direction: Direction,
+) -> Result<Vec<Chunk>, AnalysisError> {
+    let n = grid.len();
+    if n_chunks == 0 || n_chunks > n {
+        return Err(AnalysisError::invalid(
+            "--chunks",
+            format!("expected 1 to {n} chunks (one grid point at least in each), got {n_chunks}"),
+        ));
+    }
+    let (base, extra) = (n / n_chunks, n % n_chunks);
+    let mut start = 0;
+    let mut chunks = Vec::with_capacity(n_chunks);
+    for c in 0..n_chunks {
+        let len = base + usize::from(c < extra);
+        let mut indices: Vec<usize> = (start..start + len).collect();
+        if direction == Direction::Down {
+            indices.reverse();
+        }
+        chunks.push(Chunk { direction, indices });
+        start += len;
+    }
+    if direction == Direction::Down {
+        chunks.reverse();
+    }
+    Ok(chunks)
+}
+
+/// The points of a continuation sweep with their directions, as [`run_chunks_until`] returns
+/// them.
+pub type ChunkPoints<T> = Vec<(Direction, SweepPoint<T>)>;
+
+/// Runs `chunks` in parallel (rayon's current pool), the points of each in order:
+/// `compute(direction, index, parameter, previous)` gets what the point before it in its
+/// chunk returned as its second value (`None` for a chunk's first point), and returns its
+/// result and what the next point starts from. `on_done` gets each point as it finishes
+/// (never two at once), and the points are returned sorted by direction, then index.
+///
+/// `starts` (one per chunk, or empty for none) is what each chunk's first point starts from:
+/// a resumed chunk carries on from its last finished point.
+///
+/// As [`run_points_until`]: once `cancelled()` answers true or `on_done` fails, no further
+/// point starts, and what `on_done` accepted is exactly what is returned.
+///
+/// Errors: an index outside the grid or given twice in one direction, or the first error of
+/// `on_done`.
+pub fn run_chunks_until<T, W, E, C, D, S>(
+    grid: &ParameterGrid,
+    chunks: &[Chunk],
+    starts: Vec<Option<W>>,
+    compute: C,
+    on_done: D,
+    cancelled: S,
+) -> Result<ChunkPoints<T>, E>
+where
+    T: Send,
+    W: Send,
+    E: Send + From<AnalysisError>,
+    C: Fn(Direction, usize, f64, Option<&W>) -> (T, Option<W>) + Sync,
+    D: FnMut(Direction, &SweepPoint<T>) -> Result<(), E> + Send,
+    S: Fn() -> bool + Sync,
+{
+    let mut seen = BTreeSet::new();
+    for chunk in chunks {
+        for &j in &chunk.indices {
+            if j >= grid.len() {
+                return Err(AnalysisError::PointOutOfRange {
+                    what: "sweep",
+                    index: j,
+                    n_points: grid.len(),
+                }
+                .into());
+            }
+            if !seen.insert((chunk.direction, j)) {
+                return Err(AnalysisError::DoubledPoints {
+                    what: "sweep",
+                    indices: vec![j],
+                }
+                .into());
+            }
+        }
+    }
+    let mut starts = starts;
+    starts.resize_with(chunks.len(), || None);
+    let stop = AtomicBool::new(false);
+    let reporter = Mutex::new((on_done, None::<E>));
+    let finished: Vec<ChunkPoints<T>> = chunks
+        .par_iter()
+        .zip(starts)
+        .map(|(chunk, start)| {
+            let mut done = Vec::with_capacity(chunk.indices.len());
+            let mut previous: Option<W> = start;
+            for &index in &chunk.indices {
+                if stop.load(Ordering::Relaxed) || cancelled() {
+                    break;
+                }
+                let parameter = grid.value(index).unwrap_or(f64::NAN);
+                let (result, next) = compute(chunk.direction, index, parameter, previous.as_ref());
+                previous = next;
+                let point = SweepPoint {
+                    index,
+                    parameter,
+                    result,
+                };
+                // A poisoned lock means another point's callback panicked; its state is still
+                // usable for reporting this point's result.
+                let mut guard = reporter
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner);
+                if stop.load(Ordering::Relaxed) {
+                    break;
+                }
+                let (on_done, first_error) = &mut *guard;
+                match on_done(chunk.direction, &point) {
+                    Ok(()) => done.push((chunk.direction, point)),
+                    Err(e) => {
+                        stop.store(true, Ordering::Relaxed);
+                        *first_error = Some(e);
+                        break;
+                    }
+                }
+            }
+            done
+        })
+        .collect();
+    let (_, first_error) = reporter
+        .into_inner()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some(e) = first_error {
+        return Err(e);
+    }
+    let mut results: ChunkPoints<T> = finished.into_iter().flatten().collect();
+    results.sort_by_key(|(d, p)| (*d, p.index));
+    Ok(results)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn chunks_are_contiguous_and_cover_the_grid_once() {
+        let grid = ParameterGrid::new(0.0, 1.0, 9);
+        let Ok(grid) = grid else {
+            panic!("{grid:?}");
+        };
+        let up = continuation_chunks(&grid, 3, Direction::Up)
+            .map(|c| c.into_iter().map(|c| c.indices).collect::<Vec<_>>());
+        assert_eq!(
+            up.ok(),
+            Some(vec![vec![0, 1, 2, 3], vec![4, 5, 6], vec![7, 8, 9]])
+        );
+        let down = continuation_chunks(&grid, 3, Direction::Down)
+            .map(|c| c.into_iter().map(|c| c.indices).collect::<Vec<_>>());
+        assert_eq!(
+            down.ok(),
+            Some(vec![vec![9, 8, 7], vec![6, 5, 4], vec![3, 2, 1, 0]])
+        );
+        for bad in [0, 11] {
+            let e = continuation_chunks(&grid, bad, Direction::Up)
+                .err()
+                .map(|e| e.to_string());
+            assert_eq!(
+                e,
+                Some(format!(
+                    "invalid --chunks: expected 1 to 10 chunks (one grid point at least in each), got {bad}"
+                ))
+            );
+        }
+    }
+
+    #[test]
+    fn chunk_points_start_from_their_predecessor_whatever_the_threads() {
+        // Each point returns the index of the point it started from: the one before it in its
+        // chunk, or none for the chunk's first.
+        let grid = ParameterGrid::new(0.0, 1.0, 9);
+        let Ok(grid) = grid else {
+            panic!("{grid:?}");
+        };
+        let mut chunks = continuation_chunks(&grid, 3, Direction::Up).unwrap_or_default();
+        chunks.extend(continuation_chunks(&grid, 3, Direction::Down).unwrap_or_default());
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build();
+            let Ok(pool) = pool else {
+                panic!("no thread pool");
+            };
+            let got: Result<ChunkPoints<Option<usize>>, AnalysisError> = pool.install(|| {
+                run_chunks_until(
+                    &grid,
+                    &chunks,
+                    Vec::new(),
+                    |_, i, _, previous: Option<&usize>| (previous.copied(), Some(i)),
+                    |_, _| Ok(()),
+                    || false,
+                )
+            });
+            got.unwrap_or_default()
+                .into_iter()
+                .map(|(d, p)| (d, p.index, p.result))
+                .collect::<Vec<_>>()
+        };
+        let one = run(1);
+        assert_eq!(one.len(), 20, "every point of both directions: {one:?}");
+        let from = |d: Direction, i: usize| {
+            one.iter()
+                .find(|(dd, ii, _)| *dd == d && *ii == i)
+                .and_then(|p| p.2)
+        };
+        assert_eq!(from(Direction::Up, 0), None);
+        assert_eq!(from(Direction::Up, 3), Some(2));
+        assert_eq!(
+            from(Direction::Up, 4),
+            None,
+            "a chunk's first point starts cold"
+        );
+        assert_eq!(from(Direction::Down, 9), None);
+        assert_eq!(from(Direction::Down, 0), Some(1));
+        assert_eq!(from(Direction::Down, 3), None);
+        assert_eq!(run(3), one, "results do not depend on the threads");
+    }
 
     #[test]
     fn grid_ends_are_exact() {

@@ -27,15 +27,23 @@
 //! that `--resume` continues; a second signal stops at once (the finished points are on disk,
 //! a cut-off row is dropped by `--resume`). The files then hold the finished points in order
 //! of completion; `--resume` puts them in index order.
+//!
+//! **Transient detection** (`--settle`): each point's transient ends once its section has
+//! settled (`linkdyn::simulation::analyses::poincare_from`), and the verdicts say after how
+//! many turns (`transient_turns`). **Warm starts** (`--warm-start`, reduced formulation): the
+//! grid is split into `--chunks` contiguous chunks, fixed whatever the threads, each walked in
+//! `--direction` (`both`: `F.up.csv` and `F.down.csv`), every point but a chunk's first
+//! starting from the state the one before it ended in; that state is in the verdicts
+//! (`end_state`), so `--resume` carries a chunk on exactly. `--shard` is refused with it.
 
 use super::poincare::{ModelArgs, bad, provenance_lines};
 use super::{EXIT_FAILED_POINTS, EXIT_INTERRUPTED, EXIT_OUTPUT, Failure, csv_field, interrupt};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use linkdyn::analysis::{self, ParameterGrid, PeriodVerdict, Shard, SweepPoint};
+use linkdyn::analysis::{self, Direction, ParameterGrid, PeriodVerdict, Shard, SweepPoint};
 use linkdyn::output::{AtomicFile, OutputLock, check_output_file, format_number};
-use linkdyn::simulation::analyses::{ModelSection, SectionSpec, Sweep};
-use linkdyn::simulation::{EndTime, Simulation, SimulationOptions, escape_line};
+use linkdyn::simulation::analyses::{ModelSection, SectionSpec, Settle, Sweep};
+use linkdyn::simulation::{EndTime, FormulationKind, Simulation, SimulationOptions, escape_line};
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs::{File, OpenOptions};
 use std::io::{IsTerminal, Write};
@@ -77,10 +85,59 @@ pub struct BifurcationArgs {
     /// Worker threads (default: one per core).
     #[arg(long)]
     threads: Option<usize>,
+    /// Start each point from the state the point before it ended in (on its attractor)
+    /// instead of the model's initial state: the grid is split into --chunks contiguous
+    /// chunks run in parallel, each swept in --direction from a cold first point. Reduced
+    /// formulation only; not with --shard.
+    #[arg(long)]
+    warm_start: bool,
+    /// Chunks of a warm-started sweep (default: one per 25 points, at most 8; fixed, so that
+    /// the result does not depend on --threads). 1 follows one branch over the whole range.
+    #[arg(long)]
+    chunks: Option<usize>,
+    /// Direction of a warm-started sweep: up (from --from to --to), down, or both (two
+    /// branches, written to F.up.csv and F.down.csv, which show coexisting attractors and
+    /// hysteresis).
+    #[arg(long, value_parser = parse_direction)]
+    direction: Option<Directions>,
+    /// End each point's transient once its Poincaré points have settled (the last 4 repeat
+    /// with a period k ≤ 8 within 10 times the integration tolerance), after at least
+    /// --transient-min turns and at most --transient; the turns used go to the verdicts.
+    #[arg(long)]
+    settle: bool,
+    /// Fewest transient turns with --settle (default 5).
+    #[arg(long)]
+    transient_min: Option<usize>,
     /// Output CSV file `index,<param>,turn,<col>`; the verdicts go to `F.verdicts.csv`.
     #[arg(long)]
     out: PathBuf,
 }
+
+/// The branches of a warm-started sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Directions {
+    /// One branch.
+    One(Direction),
+    /// Up and down.
+    Both,
+}
+
+fn parse_direction(s: &str) -> Result<Directions, String> {
+    match s {
+        "up" => Ok(Directions::One(Direction::Up)),
+        "down" => Ok(Directions::One(Direction::Down)),
+        "both" => Ok(Directions::Both),
+        _ => Err(format!("expected up, down or both, got \"{s}\"")),
+    }
+}
+
+/// Chunks of a warm-started sweep unless --chunks says otherwise: one per this many points
+/// (a cold start costs a few turns more than a warm one, so short chunks waste little)…
+const POINTS_PER_CHUNK: usize = 25;
+/// … and at most this many (the Fig. 6a grid of 200 points: 8).
+const MAX_DEFAULT_CHUNKS: usize = 8;
+/// Fewest transient turns with --settle unless --transient-min says otherwise.
+const DEFAULT_TRANSIENT_MIN: usize = 5;
 
 fn parse_shard(s: &str) -> Result<Shard, String> {
     s.parse()
@@ -90,6 +147,11 @@ fn parse_shard(s: &str) -> Result<Shard, String> {
 /// `F.csv` → `F.verdicts.csv`.
 pub fn verdicts_path(out: &Path) -> PathBuf {
     out.with_extension("verdicts.csv")
+}
+
+/// `F.csv` → `F.up.csv` or `F.down.csv`: the branches of `--direction both`.
+pub fn branch_path(out: &Path, direction: Direction) -> PathBuf {
+    out.with_extension(format!("{direction}.csv"))
 }
 
 /// Verdict name and period for the verdicts file (`period`/k, `no_period`/0, `not_settled`/0).
@@ -174,6 +236,123 @@ const FAILED: &str = "failed";
 /// Failed points named one by one in the closing message; the rest are counted.
 const FAILURES_LISTED: usize = 5;
 
+/// What a sweep does beyond independent points: transient detection and warm starts.
+struct Mode {
+    settle: Option<Settle>,
+    /// Chunks and directions of a warm-started sweep.
+    warm: Option<(usize, Vec<Direction>)>,
+}
+
+impl Mode {
+    /// The verdicts carry the transient turns and the start (`transient_turns,start`).
+    fn extended(&self) -> bool {
+        self.settle.is_some() || self.warm.is_some()
+    }
+}
+
+/// Checks the options of transient detection and warm starts against each other and the
+/// formulation (before any work).
+fn mode(
+    args: &BifurcationArgs,
+    options: &SimulationOptions,
+    n_points: usize,
+) -> Result<Mode, Failure> {
+    if !args.settle && args.transient_min.is_some() {
+        return Err(bad(
+            "transient_min",
+            "sets the fewest transient turns of `settle`; add --settle or leave it out",
+        ));
+    }
+    let settle = if args.settle {
+        let min = args.transient_min.unwrap_or(DEFAULT_TRANSIENT_MIN);
+        if min > args.transient {
+            return Err(bad(
+                "transient_min",
+                format!(
+                    "expected at most the {} turns of `transient` (the most a transient may take), got {min}",
+                    args.transient
+                ),
+            ));
+        }
+        Some(Settle { min_transient: min })
+    } else {
+        None
+    };
+    if !args.warm_start {
+        for (given, option) in [
+            (args.chunks.is_some(), "chunks"),
+            (args.direction.is_some(), "direction"),
+        ] {
+            if given {
+                return Err(bad(
+                    option,
+                    "applies to a warm-started sweep only; add --warm-start or leave it out",
+                ));
+            }
+        }
+        return Ok(Mode { settle, warm: None });
+    }
+    if args.shard.is_some() {
+        return Err(bad(
+            "shard",
+            "a warm-started sweep (`warm-start`) cannot be sharded: each point starts from the one before it in its chunk, and a shard takes every n-th point; split it with --chunks and --threads instead",
+        ));
+    }
+    if options.formulation != FormulationKind::Reduced {
+        return Err(bad(
+            "warm_start",
+            format!(
+                "needs --formulation reduced (only the reduced model can start from another point's state), got --formulation {}",
+                options.formulation
+            ),
+        ));
+    }
+    let chunks = args
+        .chunks
+        .unwrap_or((n_points / POINTS_PER_CHUNK).clamp(1, MAX_DEFAULT_CHUNKS));
+    let directions = match args.direction.unwrap_or(Directions::One(Direction::Up)) {
+        Directions::One(d) => vec![d],
+        Directions::Both => vec![Direction::Up, Direction::Down],
+    };
+    Ok(Mode {
+        settle,
+        warm: Some((chunks, directions)),
+    })
+}
+
+/// One result file pair: `F.csv` and `F.verdicts.csv` (per direction with `--direction both`).
+struct Branch {
+    direction: Option<Direction>,
+    out: PathBuf,
+    verdicts: PathBuf,
+    data_head: String,
+    verdict_head: String,
+}
+
+/// A point's section, whether it started warm, and the state it ended in (warm starts).
+struct Outcome {
+    section: ModelSection,
+    warm: bool,
+    end: Option<[f64; 5]>,
+}
+
+/// What `--resume` keeps of one branch: the finished points, the files' text with them, and
+/// their end states (warm starts).
+struct Kept {
+    finished: BTreeSet<usize>,
+    data: String,
+    verdicts: String,
+    ends: BTreeMap<usize, Vec<f64>>,
+}
+
+/// The `end_state` field of a warm-started point's verdict row (the 7th): its numbers, or
+/// `None` if missing or unreadable.
+fn end_state(line: &str) -> Option<Vec<f64>> {
+    let field = line.split(',').nth(6)?;
+    let y: Option<Vec<f64>> = field.split(' ').map(|v| v.parse().ok()).collect();
+    y.filter(|y| y.len() == 5 && y.iter().all(|v: &f64| v.is_finite()))
+}
+
 /// Runs `bifurcation`. Every check comes before any file is touched: an earlier result is
 /// replaced only once the first point of this run is finished.
 pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
@@ -209,6 +388,17 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         end: EndTime::DriverTurns(turns as f64),
         ..args.model.options()?
     };
+    let mode = mode(args, &options, grid.len())?;
+    let chunks = match &mode.warm {
+        Some((n, directions)) => {
+            let mut all = Vec::new();
+            for d in directions {
+                all.extend(analysis::continuation_chunks(&grid, *n, *d)?);
+            }
+            Some(all)
+        }
+        None => None,
+    };
     let base = Simulation::new(&base_model, options.clone())
         .map_err(|e| super::in_model(&args.model.model, e))?;
     let sweep = Sweep {
@@ -235,98 +425,276 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         sweep.section.check(&sim)?;
     }
 
-    let head = provenance_lines(
-        base.provenance(),
-        &[
-            ("parameter", args.param.clone()),
-            ("from", format_number(args.from)),
-            ("to", format_number(args.to)),
-            ("steps", args.steps.to_string()),
-            ("revs", turns.to_string()),
-            ("transient_revs", args.transient.to_string()),
-            ("phase_rad", format_number(args.phase)),
-            ("observe", args.observe.clone()),
-        ],
-    );
-    // Header row first, then the provenance (as every result CSV); the whole head is a prefix
-    // that `--resume` matches and skips.
-    let data_head = format!("index,{},turn,{}\n{head}", args.param, args.observe);
-    let verdict_head = format!("index,{},verdict,k,message\n{head}", args.param);
-    let out = &args.out;
-    let verdicts = verdicts_path(out);
-    check_output_file(out, Some(&args.model.model))?;
-    check_output_file(&verdicts, Some(&args.model.model))?;
-    let _lock = OutputLock::acquire(out)?;
+    let mut extra = vec![
+        ("parameter", args.param.clone()),
+        ("from", format_number(args.from)),
+        ("to", format_number(args.to)),
+        ("steps", args.steps.to_string()),
+        ("revs", turns.to_string()),
+        ("transient_revs", args.transient.to_string()),
+        ("phase_rad", format_number(args.phase)),
+        ("observe", args.observe.clone()),
+    ];
+    // Only the new modes add lines, so that the files of independent starts stay as they were
+    // (and `--resume` still matches them).
+    if let Some(s) = mode.settle {
+        extra.push(("settle_min_revs", s.min_transient.to_string()));
+    }
+    if let Some((n, _)) = &mode.warm {
+        extra.push(("warm_start_chunks", n.to_string()));
+    }
+    let branches: Vec<Branch> = match &mode.warm {
+        None => vec![None],
+        Some((_, directions)) => directions.iter().copied().map(Some).collect(),
+    }
+    .into_iter()
+    .map(|direction| {
+        let mut extra = extra.clone();
+        let out = match direction {
+            Some(d) => {
+                extra.push(("direction", d.to_string()));
+                if matches!(args.direction, Some(Directions::Both)) {
+                    branch_path(&args.out, d)
+                } else {
+                    args.out.clone()
+                }
+            }
+            None => args.out.clone(),
+        };
+        let head = provenance_lines(base.provenance(), &extra);
+        // Header row first, then the provenance (as every result CSV); the whole head is a
+        // prefix that `--resume` matches and skips.
+        let verdict_columns = if mode.warm.is_some() {
+            "verdict,k,transient_turns,start,end_state,message"
+        } else if mode.extended() {
+            "verdict,k,transient_turns,start,message"
+        } else {
+            "verdict,k,message"
+        };
+        Branch {
+            direction,
+            verdicts: verdicts_path(&out),
+            data_head: format!("index,{},turn,{}\n{head}", args.param, args.observe),
+            verdict_head: format!("index,{},{verdict_columns}\n{head}", args.param),
+            out,
+        }
+    })
+    .collect();
+    let mut locks = Vec::new();
+    for b in &branches {
+        check_output_file(&b.out, Some(&args.model.model))?;
+        check_output_file(&b.verdicts, Some(&args.model.model))?;
+        locks.push(OutputLock::acquire(&b.out)?);
+    }
 
     // What is finished: a verdict other than `failed` and all R − M rows. Failed points and
-    // partial rows are dropped, so that they run again.
+    // partial rows are dropped, so that they run again. (A warm-started sweep has one branch
+    // per direction and no --resume.)
     let per_point = turns - args.transient;
-    let mut finished = BTreeSet::new();
-    let mut kept = (data_head.clone(), verdict_head.clone());
-    if args.resume {
-        let data = read_matching(out, &data_head)?;
-        let verdict = read_matching(&verdicts, &verdict_head)?;
-        if let (Some(data), Some(verdict)) = (&data, &verdict) {
-            let rows = rows_by_index(data, data_head.len());
-            let marks = rows_by_index(verdict, verdict_head.len());
-            finished = marks
-                .iter()
-                .filter(|(i, m)| {
-                    m.len() == 1
-                        && !m.iter().any(|line| is_failed(line))
-                        && rows.get(i).map_or(0, Vec::len) == per_point
-                })
-                .map(|(i, _)| *i)
-                .collect();
-            kept = (
-                joined(&data_head, &rows, &finished),
-                joined(&verdict_head, &marks, &finished),
-            );
+    let warm_mode = mode.warm.is_some();
+    // Per branch: the finished points and the files' text to keep. A warm-started point also
+    // needs its end state (the next point starts from it).
+    let mut kept: Vec<Kept> = Vec::with_capacity(branches.len());
+    for b in &branches {
+        let mut k = Kept {
+            finished: BTreeSet::new(),
+            data: b.data_head.clone(),
+            verdicts: b.verdict_head.clone(),
+            ends: BTreeMap::new(),
+        };
+        if args.resume {
+            let data = read_matching(&b.out, &b.data_head)?;
+            let verdict = read_matching(&b.verdicts, &b.verdict_head)?;
+            if let (Some(data), Some(verdict)) = (&data, &verdict) {
+                let rows = rows_by_index(data, b.data_head.len());
+                let marks = rows_by_index(verdict, b.verdict_head.len());
+                for (i, m) in &marks {
+                    let [line] = m.as_slice() else {
+                        continue;
+                    };
+                    if is_failed(line) || rows.get(i).map_or(0, Vec::len) != per_point {
+                        continue;
+                    }
+                    if warm_mode {
+                        match end_state(line) {
+                            Some(y) => {
+                                k.ends.insert(*i, y);
+                            }
+                            None => continue,
+                        }
+                    }
+                    k.finished.insert(*i);
+                }
+                if let Some(chunks) = &chunks {
+                    // A chunk carries on after its finished points that run in a row from its
+                    // start; a finished point after a gap (a failed point) runs again.
+                    let mut prefix = BTreeSet::new();
+                    for c in chunks.iter().filter(|c| Some(c.direction) == b.direction) {
+                        prefix.extend(c.indices.iter().take_while(|i| k.finished.contains(i)));
+                    }
+                    k.finished = prefix;
+                }
+                k.data = joined(&b.data_head, &rows, &k.finished);
+                k.verdicts = joined(&b.verdict_head, &marks, &k.finished);
+            }
+        }
+        kept.push(k);
+    }
+    let done: usize = kept.iter().map(|k| k.finished.len()).sum();
+    // Independent points: those of the shard not finished. Warm-started: each chunk's points
+    // after its finished ones, from the last finished one's end state.
+    let mut todo = Vec::new();
+    let mut starts = Vec::new();
+    let mut runs: Vec<analysis::Chunk> = Vec::new();
+    match &chunks {
+        None => {
+            let done: Vec<usize> = kept[0].finished.iter().copied().collect();
+            todo = analysis::remaining(&grid, args.shard.as_ref(), &done)?;
+        }
+        Some(chunks) => {
+            for c in chunks {
+                let k = &kept[branches
+                    .iter()
+                    .position(|b| b.direction == Some(c.direction))
+                    .unwrap_or(0)];
+                let n_done = c
+                    .indices
+                    .iter()
+                    .take_while(|i| k.finished.contains(i))
+                    .count();
+                let start = match n_done.checked_sub(1).map(|j| c.indices[j]) {
+                    Some(last) => {
+                        let y = k.ends.get(&last).map_or(&[][..], Vec::as_slice);
+                        let value = grid.value(last).unwrap_or(f64::NAN);
+                        Some(sweep.warm_state(value, y)?)
+                    }
+                    None => None,
+                };
+                let rest = c.indices[n_done..].to_vec();
+                if !rest.is_empty() {
+                    todo.extend(&rest);
+                    starts.push(start);
+                    runs.push(analysis::Chunk {
+                        direction: c.direction,
+                        indices: rest,
+                    });
+                }
+            }
         }
     }
-    let done: Vec<usize> = finished.iter().copied().collect();
-    let todo = analysis::remaining(&grid, args.shard.as_ref(), &done)?;
-    let total = done.len() + todo.len();
+    let to_run = todo.len();
+    let total = done + to_run;
     eprintln!(
-        "{total} points{}: {} finished, {} to run ({} turns each, {} recorded)",
+        "{total} points{}{}: {done} finished, {to_run} to run ({}{turns} turns each{}, {per_point} recorded)",
         args.shard
             .map(|s| format!(" in shard {s}"))
             .unwrap_or_default(),
-        done.len(),
-        todo.len(),
-        turns,
-        per_point
+        match &mode.warm {
+            Some((n, d)) => format!(
+                ", warm-started in {n} chunks {}",
+                d.iter()
+                    .map(ToString::to_string)
+                    .collect::<Vec<_>>()
+                    .join(" and ")
+            ),
+            None => String::new(),
+        },
+        if mode.settle.is_some() {
+            "at most "
+        } else {
+            ""
+        },
+        if mode.settle.is_some() {
+            ", the transient ended once settled"
+        } else {
+            ""
+        },
     );
 
-    let mut appender = Appender {
-        data: Pending::new(out, kept.0),
-        verdicts: Pending::new(&verdicts, kept.1),
-        turns: args.transient..turns,
-        bar: progress_bar(todo.len()),
-    };
+    let mut appenders: Vec<Appender> = branches
+        .iter()
+        .zip(&kept)
+        .map(|(b, k)| Appender {
+            data: Pending::new(&b.out, k.data.clone()),
+            verdicts: Pending::new(&b.verdicts, k.verdicts.clone()),
+            turns: args.transient..turns,
+            extended: mode.extended(),
+            warm: warm_mode,
+        })
+        .collect();
+    let bar = progress_bar(to_run);
+    let branch_of =
+        |d: Option<Direction>| branches.iter().position(|b| b.direction == d).unwrap_or(0);
     interrupt::install();
     // A signal only raises the flag: points stop starting, those in flight are written.
     interrupt::defer_to_caller();
-    let results = pool.install(|| {
-        analysis::run_points_until(
+    let settle = mode.settle;
+    let results: Result<Vec<BranchPoint>, Failure> = pool.install(|| match &chunks {
+        None => analysis::run_points_until(
             &grid,
             &todo,
-            |_, p| sweep.point(p).map_err(Failure::from),
-            |p| appender.append(p),
+            |_, p| {
+                sweep
+                    .point_from(p, settle, None)
+                    .map(|r| Outcome {
+                        section: r.section,
+                        warm: r.warm,
+                        end: None,
+                    })
+                    .map_err(Failure::from)
+            },
+            |p| {
+                appenders[0].append(p)?;
+                if let Some(bar) = &bar {
+                    bar.inc(1);
+                }
+                Ok(())
+            },
             interrupt::requested,
         )
+        .map(|r| r.into_iter().map(|p| (None, p)).collect()),
+        Some(_) => analysis::run_chunks_until(
+            &grid,
+            &runs,
+            starts,
+            |_, _, p, previous| match sweep.point_from(p, settle, previous) {
+                Ok(r) => (
+                    Ok(Outcome {
+                        section: r.section,
+                        warm: r.warm,
+                        end: r.end.as_ref().map(|w| w.y),
+                    }),
+                    r.end,
+                ),
+                Err(e) => (Err(Failure::from(e)), None),
+            },
+            |d, p| {
+                appenders[branch_of(Some(d))].append(p)?;
+                if let Some(bar) = &bar {
+                    bar.inc(1);
+                }
+                Ok(())
+            },
+            interrupt::requested,
+        )
+        .map(|r| r.into_iter().map(|(d, p)| (Some(d), p)).collect()),
     });
-    appender.finish();
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
     let results = results?;
-    if results.len() < todo.len() {
+    let files = branches
+        .iter()
+        .map(|b| format!("{} and {}", b.out.display(), b.verdicts.display()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    if results.len() < to_run {
         // Only a signal leaves points out of a successful return.
-        let kept = done.len() + results.len();
+        let kept = done + results.len();
         return Err(Failure {
             code: EXIT_INTERRUPTED,
             message: format!(
-                "interrupted: {kept} of {total} points are finished in {} and {}; run the same command with --resume to compute the {} left",
-                out.display(),
-                verdicts.display(),
+                "interrupted: {kept} of {total} points are finished in {files}; run the same command with --resume to compute the {} left",
                 total - kept
             ),
         });
@@ -334,41 +702,57 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
 
     // Every point of the shard has its verdict: index order, whatever the threads did. (With
     // nothing to run, the kept points are written now.)
-    appender.data.open()?;
-    appender.verdicts.open()?;
-    let mut all: BTreeSet<usize> = finished;
-    all.extend(results.iter().map(|p| p.index));
-    for (path, head) in [(out, &data_head), (&verdicts, &verdict_head)] {
-        let text = std::fs::read_to_string(path).map_err(|e| output_failure(path, &e))?;
-        rewrite(path, head, &rows_by_index(&text, head.len()), &all)?;
+    for (k, b) in branches.iter().enumerate() {
+        appenders[k].data.open()?;
+        appenders[k].verdicts.open()?;
+        let mut all: BTreeSet<usize> = kept[k].finished.clone();
+        all.extend(
+            results
+                .iter()
+                .filter(|(d, _)| *d == b.direction)
+                .map(|(_, p)| p.index),
+        );
+        for (path, head) in [(&b.out, &b.data_head), (&b.verdicts, &b.verdict_head)] {
+            let text = std::fs::read_to_string(path).map_err(|e| output_failure(path, &e))?;
+            rewrite(path, head, &rows_by_index(&text, head.len()), &all)?;
+        }
     }
+    drop(locks);
 
-    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
     let mut failures = Vec::new();
-    for p in &results {
-        match &p.result {
-            Ok(s) => *counts.entry(s.period.verdict.to_string()).or_default() += 1,
-            Err(e) => failures.push(format!(
-                "point {} ({} = {}) failed: {}",
-                p.index,
-                args.param,
-                format_number(p.parameter),
-                e.message
-            )),
+    for b in &branches {
+        let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+        let mut n = 0;
+        for (_, p) in results.iter().filter(|(d, _)| *d == b.direction) {
+            n += 1;
+            match &p.result {
+                Ok(s) => {
+                    *counts
+                        .entry(s.section.period.verdict.to_string())
+                        .or_default() += 1
+                }
+                Err(e) => failures.push(format!(
+                    "point {}{} ({} = {}) failed: {}",
+                    p.index,
+                    b.direction.map(|d| format!(" {d}")).unwrap_or_default(),
+                    args.param,
+                    format_number(p.parameter),
+                    e.message
+                )),
+            }
         }
+        let summary: Vec<String> = counts.iter().map(|(v, n)| format!("{v}: {n}")).collect();
+        println!(
+            "{n} points run to {} and {}; verdicts: {}",
+            b.out.display(),
+            b.verdicts.display(),
+            if summary.is_empty() {
+                "none".into()
+            } else {
+                summary.join(", ")
+            }
+        );
     }
-    let summary: Vec<String> = counts.iter().map(|(v, n)| format!("{v}: {n}")).collect();
-    println!(
-        "{} points run to {} and {}; verdicts: {}",
-        results.len(),
-        out.display(),
-        verdicts.display(),
-        if summary.is_empty() {
-            "none".into()
-        } else {
-            summary.join(", ")
-        }
-    );
     if failures.is_empty() {
         return Ok(());
     }
@@ -378,10 +762,28 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
     if more > 0 {
         failures.push(format!("{more} more failed"));
     }
+    let retry = if mode.warm.is_some() {
+        // The next point of a failed one's chunk started cold (`start` = cold): it runs again
+        // too, from the retried point's end.
+        format!(
+            "run the same command with --resume to retry {} and the rest of {}",
+            if n_failed == 1 { "it" } else { "them" },
+            if n_failed == 1 {
+                "its chunk"
+            } else {
+                "their chunks"
+            }
+        )
+    } else {
+        format!(
+            "run the same command with --resume to retry only {}",
+            if n_failed == 1 { "it" } else { "them" }
+        )
+    };
     Err(Failure {
         code: EXIT_FAILED_POINTS,
         message: format!(
-            "{} of {total} points; {}. The failed {} recorded as \"{FAILED}\" with {} in {}; run the same command with --resume to retry only {}",
+            "{} of {total} points; {}. The failed {} recorded as \"{FAILED}\" with {} in {}; {retry}",
             total - n_failed,
             failures.join("; "),
             if n_failed == 1 {
@@ -394,11 +796,19 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
             } else {
                 "their messages"
             },
-            verdicts.display(),
-            if n_failed == 1 { "it" } else { "them" },
+            branches
+                .iter()
+                .map(|b| b.verdicts.display().to_string())
+                .collect::<Vec<_>>()
+                .join(" and "),
         ),
     })
 }
+
+/// A point's outcome: its section, or why it failed.
+type PointResult = Result<Outcome, Failure>;
+/// A finished point with its branch (`None`: independent starts).
+type BranchPoint = (Option<Direction>, SweepPoint<PointResult>);
 
 /// Whether a verdict row is that of a failed point.
 fn is_failed(line: &str) -> bool {
@@ -487,51 +897,67 @@ impl<'a> Pending<'a> {
 }
 
 /// Appends each finished point to the two files (data rows first, then the verdict that marks
-/// the point finished), flushed to disk, and draws progress on a terminal. A failed point gets
-/// `NaN` rows and the verdict `failed` with its message.
+/// the point finished), flushed to disk. A failed point gets `NaN` rows and the verdict
+/// `failed` with its message.
 struct Appender<'a> {
     data: Pending<'a>,
     verdicts: Pending<'a>,
-    /// The recorded turns M..R.
+    /// The recorded turns M..R (of a failed point).
     turns: std::ops::Range<usize>,
-    bar: Option<ProgressBar>,
+    /// Verdict rows with `transient_turns,start`.
+    extended: bool,
+    /// Verdict rows with `end_state` too.
+    warm: bool,
 }
 
 impl Appender<'_> {
-    fn append(&mut self, p: &SweepPoint<Result<ModelSection, Failure>>) -> Result<(), Failure> {
+    fn append(&mut self, p: &SweepPoint<PointResult>) -> Result<(), Failure> {
         let index = p.index.to_string();
         let value = format_number(p.parameter);
         let mut rows = String::new();
         let mark = match &p.result {
-            Ok(s) => {
+            Ok(Outcome {
+                section: s,
+                warm,
+                end,
+            }) => {
                 for (turn, point) in s.turns.iter().zip(&s.section.points) {
                     for v in point {
                         rows.push_str(&format!("{index},{value},{turn},{}\n", format_number(*v)));
                     }
                 }
                 let (name, k) = verdict_fields(&s.period.verdict);
-                format!("{index},{value},{name},{k},\n")
+                if self.extended {
+                    let transient = s.turns.first().copied().unwrap_or(self.turns.start);
+                    let start = if *warm { "warm" } else { "cold" };
+                    let end = if self.warm {
+                        let y: Vec<String> =
+                            end.iter().flatten().map(|v| format_number(*v)).collect();
+                        format!("{},", y.join(" "))
+                    } else {
+                        String::new()
+                    };
+                    format!("{index},{value},{name},{k},{transient},{start},{end}\n")
+                } else {
+                    format!("{index},{value},{name},{k},\n")
+                }
             }
             Err(e) => {
                 for turn in self.turns.clone() {
                     rows.push_str(&format!("{index},{value},{turn},NaN\n"));
                 }
                 let message = csv_field(&escape_line(&e.message));
-                format!("{index},{value},{FAILED},0,{message}\n")
+                if self.warm {
+                    format!("{index},{value},{FAILED},0,,,,{message}\n")
+                } else if self.extended {
+                    format!("{index},{value},{FAILED},0,,,{message}\n")
+                } else {
+                    format!("{index},{value},{FAILED},0,{message}\n")
+                }
             }
         };
         self.data.append(&rows)?;
-        self.verdicts.append(&mark)?;
-        if let Some(bar) = &self.bar {
-            bar.inc(1);
-        }
-        Ok(())
-    }
-
-    fn finish(&mut self) {
-        if let Some(bar) = self.bar.take() {
-            bar.finish_and_clear();
-        }
+        self.verdicts.append(&mark)
     }
 }
 

@@ -456,6 +456,8 @@ pub struct ReducedLagrangian {
     /// Slip speeds (v0, v1) of the friction law's kinks, when they are event functions
     /// (`contact/kinks.rs`; on by default for a law with kinks).
     kink_events: Option<[f64; 2]>,
+    /// Start time (s): 0, or the time of a warm start ([`ReducedLagrangian::start_from`]).
+    t0: f64,
     y0: [f64; 5],
     /// The last angles (θ2, θ3, θ4) and their sines and cosines: a step's last right-hand side
     /// is at the state that the event functions, the grazing guard and the impact log read
@@ -478,6 +480,21 @@ impl Default for TrigCache {
             sc: [0.0f64.sin_cos(); 3],
         }
     }
+}
+
+/// Where a run of the reduced model ended, as the clearance joint sees it: enough to start a
+/// run of a neighbouring model (another clearance, mass, length, speed) near the same motion
+/// ([`ReducedLagrangian::start_from`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct WarmState {
+    /// The state [θ3, θ4, θ̇3, θ̇4, δ̇⁽⁻⁾] (rad, rad/s, m/s).
+    pub y: [f64; 5],
+    /// Eccentricity e = r_J − r_B (m).
+    pub eccentricity: [f64; 2],
+    /// ė (m/s).
+    pub eccentricity_rate: [f64; 2],
+    /// Radial clearance c of the model it came from (m).
+    pub clearance: f64,
 }
 
 /// Kinematics of the link chain at one (t, y), before any force.
@@ -575,6 +592,7 @@ impl ReducedLagrangian {
             driver_name: driver.name.clone(),
             memory: ContactMemory::new(false),
             kink_events: kinks::friction_kinks(&spec.friction),
+            t0: 0.0,
             y0: [0.0; 5],
             trig: Cell::default(),
             crank,
@@ -585,7 +603,8 @@ impl ReducedLagrangian {
             model.body(coupler_id).initial.phi + reduced.coupler.beta,
             model.body(rocker_id).initial.phi + reduced.rocker.beta,
         ];
-        let [th3, th4, w3, w4] = reduced.assemble(0.0, spec.initial_eccentricity, guess)?;
+        let [th3, th4, w3, w4] =
+            reduced.assemble(0.0, spec.initial_eccentricity, [0.0, 0.0], guess)?;
         // No impact recorded: a contact present at t = 0 starts without a stored δ̇⁽⁻⁾.
         reduced.y0 = [th3, th4, w3, w4, 0.0];
         let delta0 = reduced.kinematics(0.0, &reduced.y0).delta;
@@ -641,16 +660,66 @@ impl ReducedLagrangian {
 
     /// Clears the event log, for a new run from the initial state.
     pub fn reset_contact_memory(&mut self) {
-        let delta0 = self.kinematics(0.0, &self.y0).delta;
+        let delta0 = self.kinematics(self.t0, &self.y0).delta;
         self.memory = ContactMemory::new(delta0 > 0.0);
     }
 
+    /// The [`WarmState`] at (t, y) of a run of this model.
+    pub fn warm_state(&self, t: f64, y: &[f64]) -> WarmState {
+        let c = self.chain(t, y);
+        WarmState {
+            y: state(y),
+            eccentricity: self.oriented_e(c.rocker_centre.position, c.coupler_centre.position),
+            eccentricity_rate: self.oriented_e(c.rocker_centre.velocity, c.coupler_centre.velocity),
+            clearance: self.joint.clearance,
+        }
+    }
+
+    /// Starts the runs of this model at time `t` (s) from `warm`, the state a run of a
+    /// neighbouring model ended in, instead of the model's initial state. `t` should be at the
+    /// same crank angle (mod 2π) as the time `warm` was taken at, so that the motion carries on.
+    ///
+    /// The eccentricity is carried into this model's clearance c from the earlier one's c′:
+    /// inside the clearance (|e| ≤ c′) it is scaled by c/c′ with its rate, so the journal keeps
+    /// its place relative to the wall; in contact the journal keeps its penetration δ = |e| − c
+    /// and ė, so the contact force stays what it was (a shift by c − c′ alone would turn a
+    /// smaller clearance into a deep penetration and a large force spike). θ3, θ4 are then
+    /// solved for that e by Newton's method from the earlier angles, θ̇3, θ̇4 for that ė; the
+    /// stored impact velocity δ̇⁽⁻⁾ is kept while in contact and cleared otherwise.
+    ///
+    /// Errors: [`FormulationError::Unassemblable`] when the linkage cannot reach that e (a
+    /// neighbouring model too different); the formulation is then unchanged.
+    pub fn start_from(&mut self, t: f64, warm: &WarmState) -> Result<(), FormulationError> {
+        let (c_new, c_old) = (self.joint.clearance, warm.clearance);
+        let [ex, ey] = warm.eccentricity;
+        let r = ex.hypot(ey);
+        let (e, e_dot) = if r > c_old && r > 0.0 {
+            let scale = (r - c_old + c_new) / r;
+            ([ex * scale, ey * scale], warm.eccentricity_rate)
+        } else {
+            let scale = if c_old > 0.0 { c_new / c_old } else { 1.0 };
+            let [vx, vy] = warm.eccentricity_rate;
+            ([ex * scale, ey * scale], [vx * scale, vy * scale])
+        };
+        let [th3, th4, w3, w4] = self.assemble(t, e, e_dot, [warm.y[0], warm.y[1]])?;
+        let mut y = [th3, th4, w3, w4, 0.0];
+        let in_contact = self.kinematics(t, &y).delta > 0.0;
+        if in_contact {
+            y[4] = warm.y[4];
+        }
+        self.t0 = t;
+        self.y0 = y;
+        self.memory = ContactMemory::new(in_contact);
+        Ok(())
+    }
+
     /// Solves the loop closure r_J − r_B = `e0` for θ3, θ4 at time `t` by Newton's method from
-    /// `guess`, then the velocities with ė = 0. Returns [θ3, θ4, θ̇3, θ̇4].
+    /// `guess`, then the velocities for ė = `e_dot`. Returns [θ3, θ4, θ̇3, θ̇4].
     fn assemble(
         &self,
         t: f64,
         e0: [f64; 2],
+        e_dot: [f64; 2],
         guess: [f64; 2],
     ) -> Result<[f64; 4], FormulationError> {
         let closure = |th: [f64; 2]| {
@@ -699,11 +768,11 @@ impl ReducedLagrangian {
                 iterations,
             });
         }
-        // Velocities: ė = s (v_C4 − v_C3) = θ̇3 c3 + θ̇4 c4 − s v_A = 0.
+        // Velocities: ė = s (v_C4 − v_C3) = θ̇3 c3 + θ̇4 c4 − s v_A.
         let (c3, c4) = self.closure_columns(th);
         let c = self.chain(t, &[th[0], th[1], 0.0, 0.0, 0.0]);
         let s = if self.bearing_on_coupler { 1.0 } else { -1.0 };
-        let rhs = [s * c.a_vel[0], s * c.a_vel[1]];
+        let rhs = [s * c.a_vel[0] + e_dot[0], s * c.a_vel[1] + e_dot[1]];
         let det = cross(c3, c4);
         Ok([th[0], th[1], cross(rhs, c4) / det, cross(c3, rhs) / det])
     }
@@ -1101,6 +1170,10 @@ impl Formulation for ReducedLagrangian {
         self.y0.to_vec()
     }
 
+    fn t0(&self) -> f64 {
+        self.t0
+    }
+
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
         let d = self.dynamics(t, y)?;
         let [_, _, w3, w4, _] = state(y);
@@ -1364,7 +1437,7 @@ mod tests {
         let mut th = guess;
         for k in 1..=20 {
             let tk = t * f64::from(k) / 20.0;
-            match r.assemble(tk, e0, th) {
+            match r.assemble(tk, e0, [0.0, 0.0], th) {
                 Ok(y) => th = [y[0], y[1]],
                 Err(e) => panic!("cannot assemble at t = {tk}: {e}"),
             }

@@ -4,6 +4,7 @@
 //! | function | what |
 //! |---|---|
 //! | [`poincare`] | section once per driver turn at the exact instants, with the period verdict |
+//! | [`poincare_from`] | the same with transient detection and a warm start from another point's end |
 //! | [`spectrum`] | amplitude spectrum of an output column, peaks as multiples of the driving frequency |
 //! | [`phase`] | phase-portrait data of an output column (its rate column or differences) |
 //! | [`lyapunov`] | largest Lyapunov exponent (bookkeeping states masked, states scaled) |
@@ -30,6 +31,23 @@
 //! turn-to-turn jitter of the settled period-one section is up to 16 ε for `coupler.phi`
 //! (rtol 1e-8) and up to about 100 ε for the journal eccentricity (rtol 1e-10, propagated ε),
 //! and it scales with rtol: 1000 ε leaves a margin of 4 or more.
+//!
+//! # Transient detection and warm starts
+//! [`poincare_from`] can end the transient early ([`Settle`]): the section is then taken at
+//! every turn from the start, and the transient ends after turn τ − 1 for the first τ ≥
+//! `min_transient` at which the last [`SETTLE_REPEATS`] points each repeat the one k turns
+//! before (for some k ≤ [`SETTLE_K_MAX`]) within [`SETTLE_TOL_FACTOR`]·ε_j (ε_j as above), or
+//! after the full `transient` turns if that never happens. The recorded points follow, as many
+//! as without detection. The factor is 100 times below the verdict's: a transient that has come
+//! within 1000 ε of its attractor is not over (on the reference four-bar at 3500 rpm, rtol
+//! 1e-6, 1000 ε of `coupler.phi` is 6.4e-4 rad, about the whole Fig. 6a diagram), while the
+//! settled turn-to-turn jitter is about 3 ε (1.7e-6 rad): 10 ε leaves a margin of 3, and a
+//! jitter above it only costs the full transient.
+//!
+//! It can also start from where a neighbouring point's run ended (a [`WarmState`] of the
+//! reduced formulation, [`ReducedLagrangian::start_from`]) instead of the model's initial
+//! state: the run then starts at the section's phase, t = t0 + φ/|ω|, where the earlier run's
+//! last point was taken, so the turns and the section stay aligned.
 
 use std::path::Path;
 
@@ -42,6 +60,7 @@ use crate::analysis::{
     SpectrumOptions, SweepPoint,
 };
 use crate::error::{Error, Result};
+use crate::formulation::reduced_lagrangian::WarmState;
 use crate::formulation::{Formulation, Outputs};
 use crate::model::Model;
 
@@ -50,6 +69,32 @@ pub const PERIOD_TOL_FACTOR: f64 = 1e3;
 /// Period tolerance relative to a component's spread over the judged points (module docs):
 /// differences below 0.1 % of the attractor's extent are not told apart.
 pub const PERIOD_TOL_REL: f64 = 1e-3;
+/// Transient detection: tolerance in units of ε_j (module docs).
+pub const SETTLE_TOL_FACTOR: f64 = 10.0;
+/// Transient detection: consecutive points that must repeat (module docs).
+pub const SETTLE_REPEATS: usize = 4;
+/// Transient detection: the longest period looked for, as the verdict's.
+pub const SETTLE_K_MAX: usize = 8;
+
+/// Transient detection (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Settle {
+    /// Fewest transient turns, whatever the points say.
+    pub min_transient: usize,
+}
+
+/// A section of [`poincare_from`]: the section, how it started, and where it ended.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PointRun {
+    /// The section and its verdict; `section.turns[0]` is the transient turns used.
+    pub section: ModelSection,
+    /// Whether it started from the given [`WarmState`] (false: from the model's initial state,
+    /// also when the warm state could not be carried into this model).
+    pub warm: bool,
+    /// The state at its last point (reduced formulation only), for the next point to start
+    /// from.
+    pub end: Option<WarmState>,
+}
 
 /// Applies `$body` to the simulation's formulation, cloned into `$f` (a fresh copy per call,
 /// as [`Simulation::run`] does, so the simulation can be reused).
@@ -201,18 +246,176 @@ pub fn poincare(sim: &Simulation, spec: &SectionSpec) -> Result<ModelSection> {
     })
 }
 
-/// The period verdict of `points` (the first at turn `first_turn`) with the tolerance derived
-/// from `sim`'s integration tolerances (module docs): the analysis, the tolerance per component
-/// in its units, and the turn the motion settled at.
-fn verdict(
-    points: &[Vec<f64>],
-    first_turn: usize,
+/// [`poincare`] with transient detection (`settle`) and a warm start (`start`, reduced
+/// formulation only; module docs "Transient detection and warm starts"), returning the state
+/// at the last point too (reduced formulation). With neither, the section is [`poincare`]'s,
+/// bit for bit. Transient detection and warm starts need output columns (`spec.observe`).
+///
+/// Errors: as [`poincare`]; [`Error::Settings`] for `warm-start` with another formulation and
+/// for `observe` when no column is named.
+pub fn poincare_from(
     sim: &Simulation,
-    propagated: Option<&[f64]>,
-) -> Result<(PeriodAnalysis, Vec<f64>, Option<usize>)> {
+    spec: &SectionSpec,
+    settle: Option<Settle>,
+    start: Option<&WarmState>,
+) -> Result<PointRun> {
+    if spec.observe.is_empty() {
+        if settle.is_some() || start.is_some() {
+            return Err(Error::settings(
+                "observe",
+                "transient detection and warm starts need at least one output column",
+            ));
+        }
+        return Ok(PointRun {
+            section: poincare(sim, spec)?,
+            warm: false,
+            end: None,
+        });
+    }
+    let omega = spec.check(sim)?;
+    let tau = std::f64::consts::TAU;
     let solver = sim.solver_options();
+    let columns: Vec<&str> = spec.observe.iter().map(String::as_str).collect();
+    let mut options = SectionOptions {
+        period: tau / omega,
+        phase_offset: spec.phase / omega,
+        n_transient: spec.transient,
+        n_points: spec.turns - spec.transient,
+    };
+    let (settled, propagated, warm, end) = match &sim.formulation {
+        Built::Reduced(b) => {
+            let mut f = (**b).clone();
+            // The verdict's tolerance from the model's initial state, warm or cold, so that
+            // both are judged alike.
+            let propagated =
+                propagated_tolerance(&f, f.t0(), &f.initial_state(), &spec.observe, solver)?;
+            // The section's phase in the first turn: where a warm start begins, and the time
+            // the end state is read at (the same crank angle as the last point's, and the
+            // same time whether the state comes from this run or from a result file).
+            let t_phase = f.t0() + spec.phase / omega;
+            let warm = match start {
+                // Already at the section's phase: the turns count from here.
+                Some(w) => {
+                    let ok = f.start_from(t_phase, w).is_ok();
+                    if ok {
+                        options.phase_offset = 0.0;
+                    }
+                    ok
+                }
+                None => false,
+            };
+            let s = settled_section(&mut f, &options, &columns, solver, settle, &propagated)?;
+            let end = Some(f.warm_state(t_phase, &s.end.1));
+            (s, propagated, warm, end)
+        }
+        other => {
+            if start.is_some() {
+                return Err(Error::settings(
+                    "warm-start",
+                    "warm starts need the reduced formulation (--formulation reduced)",
+                ));
+            }
+            let (s, propagated) = match other {
+                Built::Dae(b) => {
+                    let mut f = (**b).clone();
+                    let p = propagated_tolerance(
+                        &f,
+                        f.t0(),
+                        &f.initial_state(),
+                        &spec.observe,
+                        solver,
+                    )?;
+                    (
+                        settled_section(&mut f, &options, &columns, solver, settle, &p)?,
+                        p,
+                    )
+                }
+                Built::Generalized(b) => {
+                    let mut f = (**b).clone();
+                    let p = propagated_tolerance(
+                        &f,
+                        f.t0(),
+                        &f.initial_state(),
+                        &spec.observe,
+                        solver,
+                    )?;
+                    (
+                        settled_section(&mut f, &options, &columns, solver, settle, &p)?,
+                        p,
+                    )
+                }
+                Built::Reduced(_) => unreachable!("handled above"),
+            };
+            (s, propagated, false, None)
+        }
+    };
+    let first = settled.transient;
+    let n = settled.section.points.len();
+    let (period, tolerance, settled_at_turn) =
+        verdict(&settled.section.points, first, sim, Some(&propagated))?;
+    Ok(PointRun {
+        section: ModelSection {
+            turns: (first..first + n).collect(),
+            section: settled.section,
+            period,
+            tolerance,
+            settled_at_turn,
+        },
+        warm,
+        end,
+    })
+}
+
+/// The section of `f` from its own start, with transient detection if `settle`.
+fn settled_section<F: Formulation + Outputs>(
+    f: &mut F,
+    options: &SectionOptions,
+    columns: &[&str],
+    solver: &crate::solve::SolverOptions,
+    settle: Option<Settle>,
+    propagated: &[f64],
+) -> Result<analysis::SettledSection> {
+    let (t0, y0) = (f.t0(), f.initial_state());
+    let mut check = |points: &[Vec<f64>]| has_settled(points, solver, propagated);
+    let settling = settle.map(|s| analysis::Settling {
+        min_transient: s.min_transient,
+        settled: &mut check,
+    });
+    Ok(analysis::section_outputs_settling(
+        f, t0, &y0, options, columns, solver, settling,
+    )?)
+}
+
+/// Whether the last [`SETTLE_REPEATS`] of `points` each repeat the one k before within
+/// [`SETTLE_TOL_FACTOR`]·ε_j, for some k ≤ [`SETTLE_K_MAX`] (module docs).
+fn has_settled(
+    points: &[Vec<f64>],
+    solver: &crate::solve::SolverOptions,
+    propagated: &[f64],
+) -> bool {
+    let eps = integration_tolerance(points, solver, Some(propagated));
+    let n = points.len();
+    (1..=SETTLE_K_MAX).any(|k| {
+        n >= k + SETTLE_REPEATS
+            && (n - SETTLE_REPEATS..n).all(|i| {
+                points[i]
+                    .iter()
+                    .zip(&points[i - k])
+                    .zip(&eps)
+                    .all(|((a, b), e)| (a - b).abs() <= SETTLE_TOL_FACTOR * e)
+            })
+    })
+}
+
+/// ε_j per component of `points` (module docs): atol + rtol·max_i |p_{i,j}|, or the propagated
+/// tolerance where larger.
+fn integration_tolerance(
+    points: &[Vec<f64>],
+    solver: &crate::solve::SolverOptions,
+    propagated: Option<&[f64]>,
+) -> Vec<f64> {
     let d = points.first().map_or(0, Vec::len);
-    let eps: Vec<f64> = (0..d)
+    (0..d)
         .map(|j| {
             let max = points
                 .iter()
@@ -223,7 +426,19 @@ fn verdict(
                 .and_then(|p| p.get(j))
                 .map_or(own, |&e| own.max(e))
         })
-        .collect();
+        .collect()
+}
+
+/// The period verdict of `points` (the first at turn `first_turn`) with the tolerance derived
+/// from `sim`'s integration tolerances (module docs): the analysis, the tolerance per component
+/// in its units, and the turn the motion settled at.
+fn verdict(
+    points: &[Vec<f64>],
+    first_turn: usize,
+    sim: &Simulation,
+    propagated: Option<&[f64]>,
+) -> Result<(PeriodAnalysis, Vec<f64>, Option<usize>)> {
+    let eps = integration_tolerance(points, sim.solver_options(), propagated);
     let scaled: Vec<Vec<f64>> = points
         .iter()
         .map(|p| p.iter().zip(&eps).map(|(v, e)| v / e).collect())
@@ -541,6 +756,33 @@ impl Sweep<'_> {
     /// One point: load, build, section.
     pub fn point(&self, value: f64) -> SweepResult {
         poincare(&self.simulation(value)?, &self.section)
+    }
+
+    /// The [`WarmState`] of the model of parameter `value` in state `y` at the section's phase
+    /// (the state a point's run ended in, as a result file keeps it), to start the next point
+    /// from.
+    ///
+    /// Errors: the model cannot be loaded or built, or is not of the reduced formulation.
+    pub fn warm_state(&self, value: f64, y: &[f64]) -> Result<WarmState> {
+        let sim = self.simulation(value)?;
+        let omega = driver_speed(&sim.model, "revs")?;
+        match &sim.formulation {
+            Built::Reduced(f) => Ok(f.warm_state(f.t0() + self.section.phase / omega, y)),
+            _ => Err(Error::settings(
+                "warm-start",
+                "warm starts need the reduced formulation (--formulation reduced)",
+            )),
+        }
+    }
+
+    /// One point with transient detection and a warm start ([`poincare_from`]).
+    pub fn point_from(
+        &self,
+        value: f64,
+        settle: Option<Settle>,
+        start: Option<&WarmState>,
+    ) -> Result<PointRun> {
+        poincare_from(&self.simulation(value)?, &self.section, settle, start)
     }
 }
 
