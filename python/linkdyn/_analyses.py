@@ -37,7 +37,8 @@ class PoincareSection:
     work too.
     """
 
-    #: Recorded columns (``y[i]`` for states when no ``observe`` was given).
+    #: Recorded columns (without ``observe``: each clearance joint's ``ex``, ``ey`` and each
+    #: body's ``phi``, ``omega``, angles modulo whole turns).
     names: List[str]
     #: Turn number k of each point (transient, …, revs − 1), int64.
     turn: IntArray

@@ -134,7 +134,8 @@ class Model:
         """Poincaré section once per driver turn, with its period verdict (``linkdyn
         poincare``). Integrates ``revs`` turns (a whole number ≥ 1, default 2) and records, for
         turns k = ``transient`` … revs − 1, the ``observe`` columns (a list, or a string split
-        at commas; default: every state, named ``y[i]``) at the exact instants
+        at commas; default: each clearance joint's ``ex``, ``ey`` and each body's ``phi``, ``omega``,
+        angles modulo whole turns) at the exact instants
         t_k = t0 + ``phase``/|ω| + k·T (``phase`` in rad, in [0, 2π)), from the dense output.
         The verdict (period-k, no period, not settled) compares points within 1000 times the
         integration tolerance carried to each column; see ``PoincareSection``."""

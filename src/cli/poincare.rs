@@ -141,7 +141,8 @@ pub struct PoincareArgs {
     /// Phase of the section within a driver turn (rad, in [0, 2π)).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     phase: f64,
-    /// Output columns to record (comma-separated or repeated); default: all states `y[i]`.
+    /// Output columns to record (comma-separated or repeated); default: each clearance joint's
+    /// ex, ey and each body's phi, omega (angles modulo whole turns).
     #[arg(long)]
     observe: Vec<String>,
     /// Output CSV file: `turn,t,<cols>`.

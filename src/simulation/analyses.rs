@@ -149,8 +149,50 @@ pub struct SectionSpec {
     pub transient: usize,
     /// Phase offset φ within the turn (rad), in [0, 2π).
     pub phase: f64,
-    /// Output columns to record; empty for all states (named `y[i]`).
+    /// Output columns to record; empty for [`default_section_columns`] (angles modulo whole
+    /// turns).
     pub observe: Vec<String>,
+}
+
+/// The columns a section records when none are named: what describes the motion at the
+/// section, and nothing that does not — each clearance joint's eccentricity (`J.ex`, `J.ey`)
+/// and each moving body's angle and rate (`b.phi`, `b.omega`), in model order. Never the
+/// formulation's raw states (bookkeeping such as a stored impact velocity) or a driven angle
+/// that grows by a turn every turn: [`poincare`] takes the angles of these columns modulo
+/// whole turns (the first point's into (−π, π], the others nearest it), so that a body that turns with the
+/// crank repeats as one that swings does.
+pub fn default_section_columns(sim: &Simulation) -> Vec<String> {
+    let mut columns = Vec::new();
+    for joint in &sim.model.joints {
+        if matches!(joint.kind, crate::model::JointKind::Clearance(_)) {
+            columns.push(format!("{}.ex", joint.name));
+            columns.push(format!("{}.ey", joint.name));
+        }
+    }
+    for body in &sim.model.bodies {
+        columns.push(format!("{}.phi", body.name));
+        columns.push(format!("{}.omega", body.name));
+    }
+    columns.retain(|c| sim.names.contains(c));
+    columns
+}
+
+/// Shifts each `angles` component of the points by whole turns: the first point's into
+/// (−π, π], every other to the value nearest the first's. The angle of a body that turns once
+/// per driver turn then repeats at the section, and one that swings keeps its swing whole.
+fn modulo_turns(points: &mut [Vec<f64>], angles: &[bool]) {
+    let tau = std::f64::consts::TAU;
+    let Some(mut first) = points.first().cloned() else {
+        return;
+    };
+    for (f, _) in first.iter_mut().zip(angles).filter(|(_, a)| **a) {
+        *f -= tau * (*f / tau).round();
+    }
+    for p in points.iter_mut() {
+        for ((v, &f), _) in p.iter_mut().zip(&first).zip(angles).filter(|(_, a)| **a) {
+            *v -= tau * ((*v - f) / tau).round();
+        }
+    }
 }
 
 /// A section of a model with its period verdict.
@@ -222,18 +264,23 @@ pub fn poincare(sim: &Simulation, spec: &SectionSpec) -> Result<ModelSection> {
         n_points: spec.turns - spec.transient,
     };
     let solver = sim.solver_options();
-    let columns: Vec<&str> = spec.observe.iter().map(String::as_str).collect();
-    let (section, propagated) = with_formulation!(sim, f => {
+    let by_default = spec.observe.is_empty();
+    let observe = if by_default {
+        default_section_columns(sim)
+    } else {
+        spec.observe.clone()
+    };
+    let columns: Vec<&str> = observe.iter().map(String::as_str).collect();
+    let (mut section, propagated) = with_formulation!(sim, f => {
         let (t0, y0) = (f.t0(), f.initial_state());
-        if columns.is_empty() {
-            let s = analysis::section_states(&mut f, t0, &y0, &options, None, solver)?;
-            (s, None)
-        } else {
-            let tol = propagated_tolerance(&f, t0, &y0, &spec.observe, solver)?;
-            let s = analysis::section_outputs(&mut f, t0, &y0, &options, &columns, solver)?;
-            (s, Some(tol))
-        }
+        let tol = propagated_tolerance(&f, t0, &y0, &observe, solver)?;
+        let s = analysis::section_outputs(&mut f, t0, &y0, &options, &columns, solver)?;
+        (s, Some(tol))
     });
+    if by_default {
+        let angles: Vec<bool> = observe.iter().map(|c| c.ends_with(".phi")).collect();
+        modulo_turns(&mut section.points, &angles);
+    }
     let turns = (spec.transient..spec.turns).collect();
     let (period, tolerance, settled_at_turn) =
         verdict(&section.points, spec.transient, sim, propagated.as_deref())?;
