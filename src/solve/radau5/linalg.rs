@@ -133,12 +133,16 @@ impl RealLu {
                 }
             }
             let inv = 1.0 / a[k * n + k];
-            for i in k + 1..n {
-                let m = a[i * n + k] * inv;
-                a[i * n + k] = m;
+            // Rows below the pivot row as slices (no index checks in the inner loop; the same
+            // operations in the same order).
+            let (top, below) = a[..n * n].split_at_mut((k + 1) * n);
+            let pivot_row = &top[k * n + k + 1..(k + 1) * n];
+            for row in below.chunks_exact_mut(n) {
+                let m = row[k] * inv;
+                row[k] = m;
                 if m != 0.0 {
-                    for j in k + 1..n {
-                        a[i * n + j] -= m * a[k * n + j];
+                    for (x, &p) in row[k + 1..].iter_mut().zip(pivot_row) {
+                        *x -= m * p;
                     }
                 }
             }
@@ -304,17 +308,29 @@ impl ComplexLu {
             let (pr, pi) = (re[k * n + k], im[k * n + k]);
             let d = pr * pr + pi * pi;
             let (inv_r, inv_i) = (pr / d, -pi / d);
-            for i in k + 1..n {
-                let (ar, ai) = (re[i * n + k], im[i * n + k]);
+            // As in the real factorisation: rows below the pivot as slices.
+            let (top_re, below_re) = re[..n * n].split_at_mut((k + 1) * n);
+            let (top_im, below_im) = im[..n * n].split_at_mut((k + 1) * n);
+            let pivot_re = &top_re[k * n + k + 1..(k + 1) * n];
+            let pivot_im = &top_im[k * n + k + 1..(k + 1) * n];
+            for (row_re, row_im) in below_re
+                .chunks_exact_mut(n)
+                .zip(below_im.chunks_exact_mut(n))
+            {
+                let (ar, ai) = (row_re[k], row_im[k]);
                 let mr = ar * inv_r - ai * inv_i;
                 let mi = ar * inv_i + ai * inv_r;
-                re[i * n + k] = mr;
-                im[i * n + k] = mi;
+                row_re[k] = mr;
+                row_im[k] = mi;
                 if mr != 0.0 || mi != 0.0 {
-                    for j in k + 1..n {
-                        let (br, bi) = (re[k * n + j], im[k * n + j]);
-                        re[i * n + j] -= mr * br - mi * bi;
-                        im[i * n + j] -= mr * bi + mi * br;
+                    for (((xr, xi), &br), &bi) in row_re[k + 1..]
+                        .iter_mut()
+                        .zip(row_im[k + 1..].iter_mut())
+                        .zip(pivot_re)
+                        .zip(pivot_im)
+                    {
+                        *xr -= mr * br - mi * bi;
+                        *xi -= mr * bi + mi * br;
                     }
                 }
             }
