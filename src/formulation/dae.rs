@@ -165,6 +165,8 @@ pub struct Dae {
     /// Which step ends of an IDA run's approach are projected ([`projection::Spacing`]).
     spacing: projection::Spacing,
     work: RefCell<Work>,
+    /// Buffers of the analytic Jacobian (`dae/jacobian.rs`).
+    jacobian_scratch: RefCell<jacobian::JacobianScratch>,
     /// The pattern of the sparse augmented Jacobian (`dae/sparse_jacobian.rs`), built when an
     /// implicit method first asks for it.
     sparse: std::cell::OnceCell<sparse_jacobian::SparseLayout>,
@@ -247,6 +249,7 @@ impl Dae {
                 residual_stages: false,
                 stage_ratios: Vec::new(),
             }),
+            jacobian_scratch: RefCell::default(),
             sparse: std::cell::OnceCell::new(),
             constraints,
         };

@@ -49,7 +49,7 @@
 use super::{Dae, sin_cos_of};
 use crate::formulation::FormulationError;
 use crate::formulation::contact_slopes::{Direction, LawSlopes};
-use crate::mechanics::constraints::{ConstraintEval, ConstraintRow, RowCurvature};
+use crate::mechanics::constraints::{ConstraintRow, RowCurvature};
 use crate::mechanics::planar::{cross, perp};
 use crate::model::{Baumgarte, Frame};
 
@@ -78,101 +78,136 @@ impl Dae {
                 ),
             });
         }
-        let eval = self.evaluate(t, y)?;
         let n = self.n_coordinates();
         let nc = self.contacts.len();
         let n_cols = 2 * n + nc;
-        let (q, v) = (&y[..n], &y[n..2 * n]);
-        let sin_cos = sin_cos_of(q);
+        let m = self.constraints.n_rows();
+        let ma = self.active.len();
+        let v = &y[n..2 * n];
+        let mut scratch = self.jacobian_scratch.borrow_mut();
+        let JacobianScratch {
+            acc,
+            force_y,
+            lambda_h,
+            curvature,
+            rows,
+            rhs,
+            column,
+            constraint,
+        } = &mut *scratch;
+        acc.resize(n, 0.0);
+        curvature.resize(m, RowCurvature::default());
+        for (buffer, len) in [
+            (&mut *force_y, n * n_cols),
+            (&mut *lambda_h, n * n),
+            (&mut *rhs, ma * n_cols),
+            (&mut *constraint, n * n_cols),
+        ] {
+            // Sized once; zeroed by `fill` (a memset) on every call.
+            buffer.resize(len, 0.0);
+            buffer.fill(0.0);
+        }
+        column.resize(ma, 0.0);
+
+        // q̈ and λ at (t, y); this leaves the constraint rows in `work.constraints` and
+        // A = S + diag(Δ), S = Φ_q M⁻¹ Φ_qᵀ, factored in `work.schur` with the right-hand
+        // side's own regularised pivots: the solves below are with that same matrix.
+        let mut work = self.work.borrow_mut();
+        self.accelerations_into(t, y, acc, &mut work)?;
+        let work = &mut *work;
+        let sin_cos = &work.sin_cos;
 
         // ∂Q/∂y over the columns q, q̇, δ̇⁽⁻⁾ (n × n_cols, row-major).
-        let mut dq_force = vec![0.0; n * n_cols];
-        self.contact_force_derivatives(y, &sin_cos, &mut |row, col, d| {
-            dq_force[row * n_cols + col] += d;
+        self.contact_force_derivatives(y, sin_cos, &mut |row, col, d| {
+            force_y[row * n_cols + col] += d;
         });
         if !self.model.forces.is_empty() {
-            self.applied_force_derivatives(t, y, &mut dq_force);
+            self.applied_force_derivatives(t, y, force_y);
         }
-
-        // Constraint rows, their curvature, and the dense pieces of the active rows.
-        let m = self.constraints.n_rows();
-        let mut ce = ConstraintEval::with_rows(m);
-        self.constraints.evaluate_into(t, q, v, &sin_cos, &mut ce);
-        let mut curvature = vec![RowCurvature::default(); m];
         self.constraints
-            .curvature_into(q, v, &sin_cos, &mut curvature);
-        let ma = self.active.len();
-        let acc = &eval.acceleration;
-        // Per active row i, dense over the n coordinates: Φ_q, H q̈, ∂c/∂q, ∂c/∂q̇.
-        let mut jac = vec![0.0; ma * n];
-        let mut c_q = vec![0.0; ma * n];
-        let mut c_v = vec![0.0; ma * n];
-        // Σ_k λ_k H_k (n × n).
-        let mut lambda_h = vec![0.0; n * n];
+            .curvature_into(&y[..n], v, sin_cos, curvature);
+
+        // Per active row i: its terms over its (at most six) local columns, Σ_k λ_k H_k into
+        // `lambda_h` (n × n), and into column `col` of `rhs` (n_cols × ma, column-major so that
+        // each column is one solve) Φ_q M⁻¹ ∂Q/∂y_col. Only a row's local columns are touched:
+        // Φ_q is zero elsewhere, and they are visited in increasing order so that every sum
+        // adds its terms in the order of a dense pass over the coordinates.
+        let ce = &work.constraints;
+        rows.clear();
         for (i, &k) in self.active.iter().enumerate() {
             let terms = row_terms(&ce.rows[k], &curvature[k], acc, v, self.baumgarte);
             let h = &curvature[k].hessian;
-            let lambda = eval.lambda[k];
+            let lambda = work.lambda[i];
             for (l, cl) in terms.cols.iter().enumerate() {
                 let Some(cl) = *cl else { continue };
-                jac[i * n + cl] += terms.jac[l];
-                c_q[i * n + cl] += terms.c_q[l];
-                c_v[i * n + cl] += terms.c_v[l];
                 for (p, cp) in terms.cols.iter().enumerate() {
                     if let Some(cp) = cp {
                         lambda_h[cl * n + cp] += lambda * h[l][p];
                     }
                 }
             }
+            rows.push(LocalTerms::of(&terms));
         }
-        // A = S + diag(Δ), S = Φ_q M⁻¹ Φ_qᵀ, formed and factored by the right-hand side's own
-        // solver with the same regularised pivots (its structure and storage; the RHS factors
-        // it afresh at every call, so borrowing it here leaves nothing behind).
-        let mut work = self.work.borrow_mut();
-        let schur = &mut work.schur;
-        if let Err(pivot) =
-            schur.factor_regularised(&ce.rows, &self.active, &self.inv_mass, &self.shift)
+        // r_col = ∂Q/∂y_col − (Σ λ H)·e_col, in place of ∂Q/∂y.
+        for (r_row, lh_row) in force_y
+            .chunks_exact_mut(n_cols)
+            .zip(lambda_h.chunks_exact(n))
         {
-            return Err(FormulationError::SingularConstraints {
-                t,
-                constraint: self.constraints.row_name(&self.model, self.active[pivot]),
-            });
+            for (r, &lh) in r_row.iter_mut().zip(lh_row) {
+                *r -= lh;
+            }
+        }
+        let r_mat = &*force_y;
+        for (row, b_row) in rows.iter().zip(rhs.chunks_exact_mut(n_cols)) {
+            for &LocalTerm { col: cl, jac, .. } in row.iter() {
+                let w = jac * self.inv_mass[cl];
+                let r_row = &r_mat[cl * n_cols..(cl + 1) * n_cols];
+                for (b, &r) in b_row.iter_mut().zip(r_row) {
+                    *b += w * r;
+                }
+            }
+            for &LocalTerm {
+                col: cl, c_q, c_v, ..
+            } in row.iter()
+            {
+                b_row[cl] -= c_q;
+                b_row[n + cl] -= c_v;
+            }
+        }
+        // ∂λ = A⁻¹ b, one column at a time.
+        for col in 0..n_cols {
+            for (x, b_row) in column.iter_mut().zip(rhs.chunks_exact(n_cols)) {
+                *x = b_row[col];
+            }
+            work.schur.solve(column);
+            for (&x, b_row) in column.iter().zip(rhs.chunks_exact_mut(n_cols)) {
+                b_row[col] = x;
+            }
+        }
+        // Φ_qᵀ ∂λ, again over the local columns of each row, rows in order.
+        for (row, x_row) in rows.iter().zip(rhs.chunks_exact(n_cols)) {
+            for &LocalTerm { col: cl, jac, .. } in row.iter() {
+                let c_row = &mut constraint[cl * n_cols..(cl + 1) * n_cols];
+                for (c, &x) in c_row.iter_mut().zip(x_row) {
+                    *c += jac * x;
+                }
+            }
         }
 
+        // ∂q̈ = M⁻¹ (r − Φ_qᵀ ∂λ) in the rows of q̇; q̇ in those of q.
         out.fill(0.0);
         for c in 0..n {
             out[c * ny + n + c] = 1.0;
         }
-        let mut r = vec![0.0; n];
-        let mut rhs = vec![0.0; ma];
-        for col in 0..n_cols {
-            for c in 0..n {
-                r[c] = dq_force[c * n_cols + col];
-                if col < n {
-                    r[c] -= lambda_h[c * n + col];
-                }
-            }
-            for (i, b) in rhs.iter_mut().enumerate() {
-                let s = if col < n {
-                    c_q[i * n + col]
-                } else if col < 2 * n {
-                    c_v[i * n + col - n]
-                } else {
-                    0.0
-                };
-                let row = &jac[i * n..(i + 1) * n];
-                *b = row
-                    .iter()
-                    .zip(&r)
-                    .zip(&self.inv_mass)
-                    .map(|((a, r), im)| a * im * r)
-                    .sum::<f64>()
-                    - s;
-            }
-            schur.solve(&mut rhs);
-            for c in 0..n {
-                let constraint: f64 = (0..ma).map(|i| jac[i * n + c] * rhs[i]).sum();
-                out[(n + c) * ny + col] = self.inv_mass[c] * (r[c] - constraint);
+        for (c, (r_row, c_row)) in r_mat
+            .chunks_exact(n_cols)
+            .zip(constraint.chunks_exact(n_cols))
+            .enumerate()
+        {
+            let im = self.inv_mass[c];
+            let out_row = &mut out[(n + c) * ny..(n + c) * ny + n_cols];
+            for ((o, &r), &k) in out_row.iter_mut().zip(r_row).zip(c_row) {
+                *o = im * (r - k);
             }
         }
         Ok(())
@@ -320,6 +355,65 @@ impl Dae {
                 dq[c * n_cols + col] += (plus[c] - minus[c]) / (2.0 * h);
             }
         }
+    }
+}
+
+/// The buffers of [`Dae::analytic_jacobian`], kept between calls (sized on first use).
+#[derive(Debug, Clone, Default)]
+pub(super) struct JacobianScratch {
+    /// q̈ at the Jacobian's state.
+    acc: Vec<f64>,
+    /// ∂Q/∂y over the columns q, q̇, δ̇⁽⁻⁾ (n × n_cols, row-major), then r = ∂Q/∂y − Σ λ H.
+    force_y: Vec<f64>,
+    /// Σ_k λ_k H_k (n × n).
+    lambda_h: Vec<f64>,
+    curvature: Vec<RowCurvature>,
+    /// Each active row's local terms in increasing column order.
+    rows: Vec<LocalTerms>,
+    /// Φ_q M⁻¹ r_j − s_j, then ∂λ, for every column j (active rows × n_cols, row-major).
+    rhs: Vec<f64>,
+    /// One column of `rhs` for the solve.
+    column: Vec<f64>,
+    /// Φ_qᵀ ∂λ (n × n_cols, row-major).
+    constraint: Vec<f64>,
+}
+
+/// One local column of a constraint row: its global column, Φ_q, ∂c/∂q and ∂c/∂q̇ there.
+#[derive(Debug, Clone, Copy, Default)]
+struct LocalTerm {
+    col: usize,
+    jac: f64,
+    c_q: f64,
+    c_v: f64,
+}
+
+/// A row's [`LocalTerm`]s (at most six) in increasing column order.
+#[derive(Debug, Clone, Copy, Default)]
+struct LocalTerms {
+    terms: [LocalTerm; 6],
+    len: usize,
+}
+
+impl LocalTerms {
+    fn of(row: &RowTerms) -> Self {
+        let mut out = LocalTerms::default();
+        for (l, c) in row.cols.iter().enumerate() {
+            if let Some(col) = *c {
+                out.terms[out.len] = LocalTerm {
+                    col,
+                    jac: row.jac[l],
+                    c_q: row.c_q[l],
+                    c_v: row.c_v[l],
+                };
+                out.len += 1;
+            }
+        }
+        out.terms[..out.len].sort_unstable_by_key(|t| t.col);
+        out
+    }
+
+    fn iter(&self) -> std::slice::Iter<'_, LocalTerm> {
+        self.terms[..self.len].iter()
     }
 }
 
