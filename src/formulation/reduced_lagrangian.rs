@@ -801,26 +801,33 @@ impl ReducedLagrangian {
         }
     }
 
-    /// (sin, cos) of three angles, from the cache when they are the last ones asked for.
+    /// (sin, cos) of three angles: computed and kept (`FRESH`, the right-hand side: it never
+    /// reads the cache, since reading back what the last evaluation has just stored stalls on
+    /// store forwarding, which cost more than the sin_cos it saved), or from the cache when they
+    /// are the last ones computed (the event functions, the grazing guard and the impact log at
+    /// a step end, where the step's last right-hand side was).
     #[inline(always)]
-    fn sin_cos(&self, angles: [f64; 3]) -> [(f64, f64); 3] {
+    fn sin_cos<const FRESH: bool>(&self, angles: [f64; 3]) -> [(f64, f64); 3] {
         let bits = angles.map(f64::to_bits);
-        let cached = self.trig.get();
-        if cached.angles == bits {
-            return cached.sc;
+        if !FRESH {
+            let cached = self.trig.get();
+            if cached.angles == bits {
+                return cached.sc;
+            }
         }
         let sc = angles.map(f64::sin_cos);
         self.trig.set(TrigCache { angles: bits, sc });
         sc
     }
 
-    /// Link kinematics at (t, y): angles, A and the two clearance centres with their velocities.
+    /// Link kinematics at (t, y): angles, A and the two clearance centres with their velocities
+    /// (`FRESH`: see [`ReducedLagrangian::sin_cos`]).
     #[inline(always)] // as `dynamics`: the right-hand side uses part of it
-    fn chain(&self, t: f64, y: &[f64]) -> Chain {
+    fn chain_with<const FRESH: bool>(&self, t: f64, y: &[f64]) -> Chain {
         let [th3, th4, w3, w4, _] = state(y);
         let theta2 = self.theta2_0 + self.theta2_dot * t;
         let w2 = self.theta2_dot;
-        let sc = self.sin_cos([theta2, th3, th4]);
+        let sc = self.sin_cos::<FRESH>([theta2, th3, th4]);
         let unit = |k: usize, l: f64| [l * sc[k].1, l * sc[k].0];
         let d = [
             unit(0, self.crank.length),
@@ -853,6 +860,11 @@ impl ReducedLagrangian {
         }
     }
 
+    /// [`ReducedLagrangian::chain_with`], the angles' sines from the cache where they are there.
+    fn chain(&self, t: f64, y: &[f64]) -> Chain {
+        self.chain_with::<false>(t, y)
+    }
+
     /// Clearance-joint kinematics at (t, y).
     fn kinematics(&self, t: f64, y: &[f64]) -> ContactKinematics {
         let c = self.chain(t, y);
@@ -873,7 +885,7 @@ impl ReducedLagrangian {
     fn dynamics(&self, t: f64, y: &[f64]) -> Result<Dynamics, FormulationError> {
         let [_, _, _, _, stored] = state(y);
         let g = self.gravity;
-        let c = self.chain(t, y);
+        let c = self.chain_with::<true>(t, y);
         let kin = self.joint_kinematics(&c);
         if kin.delta > self.joint.max_penetration() {
             return Err(FormulationError::PenetrationTooDeep {
