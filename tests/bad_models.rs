@@ -251,7 +251,7 @@ const CASES: &[(&str, &str)] = &[
     ),
     (
         "unknown_field",
-        "tests/bad_models/unknown_field.toml:12:1: bodies.crank.colour: unknown field `colour`, expected one of `name`, `mass`, `inertia`, `points`, `initial`, `shapes`",
+        "tests/bad_models/unknown_field.toml:12:1: bodies.crank.colour: unknown field `colour`; expected one of `name`, `mass`, `inertia`, `points`, `initial`, `shapes`",
     ),
     (
         "unknown_joint_type",
@@ -341,7 +341,19 @@ fn bad_set_overrides_are_refused_with_exit_code_2() {
     assert_eq!(code, 2);
     assert_eq!(
         stderr.trim_end(),
-        "error: models/fourbar_ideal.toml: bodies.crank.colour: unknown field `colour`, expected one of `name`, `mass`, `inertia`, `points`, `initial`, `shapes` (value from --set bodies.crank.colour=red)"
+        "error: models/fourbar_ideal.toml: bodies.crank.colour: unknown field `colour`; expected one of `name`, `mass`, `inertia`, `points`, `initial`, `shapes` (value from --set bodies.crank.colour=red)"
+    );
+    // A misspelt field gets the nearest known one.
+    let (code, _, stderr) = linkdyn(&[
+        "check",
+        "models/fourbar_ideal.toml",
+        "--set",
+        "bodies.crank.inertai=0.1",
+    ]);
+    assert_eq!(code, 2);
+    assert_eq!(
+        stderr.trim_end(),
+        "error: models/fourbar_ideal.toml: bodies.crank.inertai: unknown field `inertai`: did you mean \"inertia\"?; expected one of `name`, `mass`, `inertia`, `points`, `initial`, `shapes` (value from --set bodies.crank.inertai=0.1)"
     );
 }
 

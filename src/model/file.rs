@@ -419,6 +419,68 @@ pub struct ForceFile {
 pub fn parse(text: &str, file: &str) -> Result<ModelFile, super::ModelError> {
     toml::from_str(text).map_err(|e| {
         let span = e.span().unwrap_or(0..0);
-        super::locate::Locator::new(text, file).error(span, e.message().trim().to_string())
+        super::locate::Locator::new(text, file).error(span, for_people(e.message().trim()))
     })
+}
+
+/// The deserialiser's message in the model file's words: an unknown field gets the nearest
+/// known one ("did you mean"), and serde's type names become TOML's ("a table", "an array",
+/// never a Rust struct name such as `FrictionFile`).
+fn for_people(message: &str) -> String {
+    if let Some(rest) = message.strip_prefix("unknown field `")
+        && let Some((field, expected)) = rest.split_once("`, expected ")
+    {
+        let known: Vec<&str> = expected.split('`').skip(1).step_by(2).collect();
+        let hint = super::suggest::did_you_mean(field, known.iter().copied());
+        return format!("unknown field `{field}`{hint}; expected {expected}");
+    }
+    let mut text = message.to_string();
+    for (serde, toml) in [
+        ("invalid type: map", "invalid type: a table"),
+        ("invalid type: sequence", "invalid type: an array"),
+        ("expected a map", "expected a table"),
+        ("expected a sequence", "expected an array"),
+    ] {
+        text = text.replace(serde, toml);
+    }
+    // "expected struct FrictionFile" and the like: a table, whatever the Rust type is called.
+    while let Some(at) = text.find("expected struct ") {
+        let name_end = text[at + 16..]
+            .find(|c: char| !c.is_alphanumeric() && c != '_')
+            .map_or(text.len(), |k| at + 16 + k);
+        text.replace_range(at..name_end, "expected a table");
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::for_people;
+
+    #[test]
+    fn parse_messages_speak_toml_and_suggest_the_nearest_field() {
+        assert_eq!(
+            for_people(
+                "unknown field `coefficent`, expected one of `law`, `coefficient`, `v0`, `v1`"
+            ),
+            "unknown field `coefficent`: did you mean \"coefficient\"?; expected one of `law`, `coefficient`, `v0`, `v1`"
+        );
+        // Nothing near enough: no guess.
+        assert_eq!(
+            for_people("unknown field `zzz`, expected one of `law`, `coefficient`"),
+            "unknown field `zzz`; expected one of `law`, `coefficient`"
+        );
+        assert_eq!(
+            for_people("invalid type: map, expected a sequence"),
+            "invalid type: a table, expected an array"
+        );
+        assert_eq!(
+            for_people("invalid type: integer `3`, expected struct FrictionFile"),
+            "invalid type: integer `3`, expected a table"
+        );
+        assert_eq!(
+            for_people("invalid type: integer `5`, expected a map"),
+            "invalid type: integer `5`, expected a table"
+        );
+    }
 }
