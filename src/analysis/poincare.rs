@@ -102,52 +102,7 @@ pub fn section_outputs<F: Formulation + Outputs>(
     columns: &[&str],
     opts: &SolverOptions,
 ) -> Result<PoincareSection, AnalysisError> {
-    let all = f.output_names();
-    let chosen: Vec<usize> = if columns.is_empty() {
-        (0..all.len()).collect()
-    } else {
-        columns
-            .iter()
-            .map(|c| {
-                all.iter().position(|a| a == c).ok_or_else(|| {
-                    AnalysisError::invalid(
-                        "columns",
-                        format!(
-                            "no output column \"{c}\"; the columns are {}",
-                            all.join(", ")
-                        ),
-                    )
-                })
-            })
-            .collect::<Result<_, _>>()?
-    };
-    let names = chosen.iter().map(|&i| all[i].clone()).collect();
-    let mut row = Vec::new();
-    run(f, t0, y0, section, opts, names, |f, t, y, out| {
-        f.outputs_into(t, y, &mut row)
-            .map_err(|source| AnalysisError::Outputs {
-                analysis: WHAT,
-                t,
-                source,
-            })?;
-        out.clear();
-        for &i in &chosen {
-            // outputs_into writes output_names().len() columns; a shorter row is a formulation
-            // bug, reported rather than indexed blindly.
-            let v = row.get(i).copied().ok_or_else(|| {
-                AnalysisError::invalid(
-                    "columns",
-                    format!(
-                        "the formulation wrote {} output columns at t = {t} s but names {}",
-                        row.len(),
-                        all.len()
-                    ),
-                )
-            })?;
-            out.push(v);
-        }
-        Ok(())
-    })
+    section_outputs_settling(f, t0, y0, section, columns, opts, None).map(|s| s.section)
 }
 
 fn validate(section: &SectionOptions, t0: f64) -> Result<(), AnalysisError> {
@@ -250,6 +205,8 @@ pub fn section_outputs_settling<F: Formulation + Outputs>(
                 })?;
             out.clear();
             for &i in &chosen {
+                // outputs_into writes output_names().len() columns; a shorter row is a
+                // formulation bug, reported rather than indexed blindly.
                 let v = row.get(i).copied().ok_or_else(|| {
                     AnalysisError::invalid(
                         "columns",

@@ -4,6 +4,7 @@
 //! refusals: a model may mean them. The command line prints them before any work.
 
 use super::types::{DriverMotion, Frame, JointKind, Model};
+use crate::simulation::format_for_people as short;
 use std::f64::consts::{PI, TAU};
 
 /// Fastest plausible speed of a driven body's points (m/s). The paper's four-bar at 5000 rpm
@@ -81,11 +82,6 @@ fn driven_radius(model: &Model, joint: usize) -> f64 {
         }
     }
     radius
-}
-
-/// A number for a sentence: up to 5 significant digits, no trailing zeros.
-fn short(x: f64) -> String {
-    crate::output::format_for_people(x)
 }
 
 #[cfg(test)]

@@ -355,46 +355,18 @@ pub fn poincare_from(
             let end = Some(f.warm_state(t_phase, &s.end.1));
             (s, propagated, warm, end)
         }
-        other => {
-            if start.is_some() {
-                return Err(Error::settings(
-                    "warm-start",
-                    "warm starts need the reduced formulation (--formulation reduced)",
-                ));
-            }
-            let (s, propagated) = match other {
-                Built::Dae(b) => {
-                    let mut f = (**b).clone();
-                    let p = propagated_tolerance(
-                        &f,
-                        f.t0(),
-                        &f.initial_state(),
-                        &spec.observe,
-                        solver,
-                    )?;
-                    (
-                        settled_section(&mut f, &options, &columns, solver, settle, &p)?,
-                        p,
-                    )
-                }
-                Built::Generalized(b) => {
-                    let mut f = (**b).clone();
-                    let p = propagated_tolerance(
-                        &f,
-                        f.t0(),
-                        &f.initial_state(),
-                        &spec.observe,
-                        solver,
-                    )?;
-                    (
-                        settled_section(&mut f, &options, &columns, solver, settle, &p)?,
-                        p,
-                    )
-                }
-                Built::Reduced(_) => unreachable!("handled above"),
-            };
-            (s, propagated, false, None)
+        _ if start.is_some() => {
+            return Err(Error::settings(
+                "warm-start",
+                "warm starts need the reduced formulation (--formulation reduced)",
+            ));
         }
+        // Cold, any formulation (the reduced one is taken above).
+        _ => with_formulation!(sim, f => {
+            let p = propagated_tolerance(&f, f.t0(), &f.initial_state(), &spec.observe, solver)?;
+            let s = settled_section(&mut f, &options, &columns, solver, settle, &p)?;
+            (s, p, false, None)
+        }),
     };
     let first = settled.transient;
     let n = settled.section.points.len();

@@ -530,21 +530,34 @@ mod tests {
             (part.main.clone(), part.trailing.clone()),
             (vec![0, 2], vec![1])
         );
-        let (mut full, mut split) = (RealLu::new(3), RealLu::new(3));
-        full.factor(3.0, &jac, &Partition::new(3))?;
-        split.factor(3.0, &jac, &part)?;
-        let (mut a, mut b) = ([1.0, -2.0, 0.5], [1.0, -2.0, 0.5]);
+        split_solves_equal_full_ones(&jac, &part, &[1.0, -2.0, 0.5], &[0.3, 0.0, -1.0])?;
+        Ok(())
+    }
+
+    /// Factors s·I − J (s = 3) and (3 + 1.5i)·I − J once whole and once through `part`, and
+    /// checks that both give the same solutions of (b_re) and (b_re + i b_im): two elimination
+    /// orders of a well-conditioned small system, a few ulps apart.
+    fn split_solves_equal_full_ones(
+        jac: &[f64],
+        part: &Partition,
+        b_re: &[f64],
+        b_im: &[f64],
+    ) -> Result<(), Singular> {
+        let n = b_re.len();
+        let (mut full, mut split) = (RealLu::new(n), RealLu::new(n));
+        full.factor(3.0, jac, &Partition::new(n))?;
+        split.factor(3.0, jac, part)?;
+        let (mut a, mut b) = (b_re.to_vec(), b_re.to_vec());
         full.solve(&mut a);
         split.solve(&mut b);
-        let (mut cf, mut cs) = (ComplexLu::new(3), ComplexLu::new(3));
-        cf.factor(3.0, 1.5, &jac, &Partition::new(3))?;
-        cs.factor(3.0, 1.5, &jac, &part)?;
-        let (mut ar, mut ai) = ([1.0, -2.0, 0.5], [0.3, 0.0, -1.0]);
-        let (mut br, mut bi) = (ar, ai);
+        let (mut cf, mut cs) = (ComplexLu::new(n), ComplexLu::new(n));
+        cf.factor(3.0, 1.5, jac, &Partition::new(n))?;
+        cs.factor(3.0, 1.5, jac, part)?;
+        let (mut ar, mut ai) = (b_re.to_vec(), b_im.to_vec());
+        let (mut br, mut bi) = (ar.clone(), ai.clone());
         cf.solve(&mut ar, &mut ai);
         cs.solve(&mut br, &mut bi);
-        for k in 0..3 {
-            // Two elimination orders of a well-conditioned 3×3 system: a few ulps.
+        for k in 0..n {
             assert!(
                 (a[k] - b[k]).abs() < 1e-15,
                 "real x{k}: {} vs {}",
@@ -584,36 +597,8 @@ mod tests {
             ),
             (vec![1], vec![0, 2], vec![3])
         );
-        let (mut full, mut split) = (RealLu::new(4), RealLu::new(4));
-        full.factor(3.0, &jac, &Partition::new(4))?;
-        split.factor(3.0, &jac, &part)?;
-        let (mut a, mut b) = ([1.0, -2.0, 0.5, 0.25], [1.0, -2.0, 0.5, 0.25]);
-        full.solve(&mut a);
-        split.solve(&mut b);
-        let (mut cf, mut cs) = (ComplexLu::new(4), ComplexLu::new(4));
-        cf.factor(3.0, 1.5, &jac, &Partition::new(4))?;
-        cs.factor(3.0, 1.5, &jac, &part)?;
-        let (mut ar, mut ai) = ([1.0, -2.0, 0.5, 0.25], [0.3, 0.0, -1.0, 2.0]);
-        let (mut br, mut bi) = (ar, ai);
-        cf.solve(&mut ar, &mut ai);
-        cs.solve(&mut br, &mut bi);
-        for k in 0..4 {
-            // Two elimination orders of a well-conditioned 4×4 system: a few ulps.
-            assert!(
-                (a[k] - b[k]).abs() < 1e-15,
-                "real x{k}: {} vs {}",
-                a[k],
-                b[k]
-            );
-            assert!(
-                (ar[k] - br[k]).abs() < 1e-15 && (ai[k] - bi[k]).abs() < 1e-15,
-                "complex x{k}: {} + {}i vs {} + {}i",
-                ar[k],
-                ai[k],
-                br[k],
-                bi[k]
-            );
-        }
+        split_solves_equal_full_ones(&jac, &part, &[1.0, -2.0, 0.5, 0.25], &[0.3, 0.0, -1.0, 2.0])?;
+        let mut split = RealLu::new(4);
         // A leading component whose diagonal vanishes (s = J_11) is a singular matrix.
         assert!(split.factor(-0.5, &jac, &part).is_err());
         Ok(())
