@@ -5,7 +5,7 @@
 mod common;
 
 use common::ode::{OdeRecorder, Oscillator, observed_order};
-use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolveError, SolverOptions, SolverStats, integrate};
 use std::f64::consts::PI;
 
@@ -155,6 +155,8 @@ fn stats_add_up() -> Result<(), SolveError> {
 
 /// y' = tanh(200 (t − 1)) − y: a kink at t = 1 the controller first overshoots (rejections).
 struct Kink;
+
+impl NoStepHooks for Kink {}
 
 impl Formulation for Kink {
     fn n_states(&self) -> usize {

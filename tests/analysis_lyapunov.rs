@@ -2,7 +2,7 @@
 //! a damped pendulum (−ζω), an undamped pendulum (0) and the Lorenz system (0.9056).
 
 use linkdyn::analysis::lyapunov::{LyapunovEstimate, LyapunovOptions, largest_lyapunov};
-use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolverOptions};
 
 /// θ'' + 2ζω θ' + ω² sin θ = 0 as (θ, θ'), plus an optional extra state z' = growth·z that is
@@ -13,6 +13,8 @@ struct Pendulum {
     zeta: f64,
     growth: Option<f64>,
 }
+
+impl NoStepHooks for Pendulum {}
 
 impl Formulation for Pendulum {
     fn n_states(&self) -> usize {
@@ -34,6 +36,8 @@ impl Formulation for Pendulum {
 /// The Lorenz system with σ = 10, ρ = 28, β = 8/3.
 #[derive(Clone)]
 struct Lorenz;
+
+impl NoStepHooks for Lorenz {}
 
 impl Formulation for Lorenz {
     fn n_states(&self) -> usize {

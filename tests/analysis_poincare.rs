@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 
 use linkdyn::analysis::period::{PeriodOptions, PeriodVerdict, period_verdict};
 use linkdyn::analysis::poincare::{SectionOptions, section_states};
-use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolverOptions};
 
 /// x'' + 2ζω x' + ω² x = F cos(Ωt) as (x, v).
@@ -16,6 +16,8 @@ struct ForcedOscillator {
     force: f64,
     drive: f64,
 }
+
+impl NoStepHooks for ForcedOscillator {}
 
 impl Formulation for ForcedOscillator {
     fn n_states(&self) -> usize {

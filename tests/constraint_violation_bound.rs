@@ -5,10 +5,16 @@
 //! The shipped models never come near the bound at any tolerance from 1e-4 to 1e-12.
 
 use linkdyn::formulation::dae::violation_limit;
-use linkdyn::formulation::{Dae, DaeOptions, FormulationError};
+use linkdyn::formulation::{Dae, DaeOptions, FormulationError, StepHooks, Tolerances};
 use linkdyn::simulation::{Discard, Simulation, SimulationOptions};
 use linkdyn::solve::{Method, SolveError, SolverOptions};
 use std::process::Command;
+
+/// The tolerances of the step-end checks below.
+const TOLERANCES: Tolerances = Tolerances {
+    rtol: 1e-8,
+    atol: 1e-10,
+};
 
 fn load(path: &str, sets: &[&str]) -> linkdyn::model::Model {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
@@ -98,7 +104,7 @@ fn a_state_off_the_joints_is_refused_at_the_step_end() {
     let (limit, _) = violation_limit(dae.length_scale(), 1e-8, 1e-10);
     // Exactly on the bound passes (|Φ| ≤ bound); twice the bound in x does not.
     y[0] += 2.0 * limit;
-    let err = dae.accept_step(0.5, &mut y, 1e-8, 1e-10).err();
+    let err = dae.accept_step(0.5, &mut y, TOLERANCES).err();
     match err {
         Some(FormulationError::ConstraintViolation {
             t,
@@ -125,7 +131,7 @@ fn a_state_off_the_joints_is_refused_at_the_step_end() {
     // A NaN coordinate is a violation too, never a pass.
     let mut y = dae.initial_state();
     y[1] = f64::NAN;
-    assert!(dae.accept_step(0.5, &mut y, 1e-8, 1e-10).is_err());
+    assert!(dae.accept_step(0.5, &mut y, TOLERANCES).is_err());
 }
 
 #[test]

@@ -9,7 +9,7 @@
 mod common;
 
 use common::ode::OdeRecorder;
-use linkdyn::formulation::{Crossing, EventResponse, Formulation, FormulationError};
+use linkdyn::formulation::{Crossing, EventResponse, Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{EventRecord, Method, Sink, SolveError, SolverOptions, integrate};
 
 /// Gravity (m/s²).
@@ -21,6 +21,8 @@ const G: f64 = 9.81;
 struct Ball {
     restitution: Option<f64>,
 }
+
+impl NoStepHooks for Ball {}
 
 impl Formulation for Ball {
     fn n_states(&self) -> usize {
@@ -174,6 +176,8 @@ struct Ramp {
     restart_on: Option<usize>,
 }
 
+impl NoStepHooks for Ramp {}
+
 impl Formulation for Ramp {
     fn n_states(&self) -> usize {
         1
@@ -266,6 +270,8 @@ impl<F> Sink<F> for Log {
 /// evaluated exactly near its root, so the located time is never before 0.5.
 struct Jump;
 
+impl NoStepHooks for Jump {}
+
 impl Formulation for Jump {
     fn n_states(&self) -> usize {
         1
@@ -324,6 +330,8 @@ fn sample_at_the_event_time_shows_the_state_before_the_event() -> Result<(), Sol
 struct Graze {
     max_step: f64,
 }
+
+impl NoStepHooks for Graze {}
 
 impl Formulation for Graze {
     fn n_states(&self) -> usize {

@@ -5,7 +5,7 @@
 mod common;
 
 use common::ode::{OdeRecorder, Oscillator};
-use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, Sink, SolveError, SolverOptions, integrate};
 use std::error::Error as _;
 
@@ -60,6 +60,8 @@ fn sink_error_aborts_the_run() {
 
 /// y' = 1 whose right-hand side fails from t = 1 on (a singular position, say).
 struct BreaksAtOne;
+
+impl NoStepHooks for BreaksAtOne {}
 
 impl Formulation for BreaksAtOne {
     fn n_states(&self) -> usize {
@@ -119,6 +121,8 @@ fn rhs_error_is_wrapped_with_its_time() {
 /// y' = y² from y(0) = 1: y = 1/(1 − t) blows up at t = 1.
 struct BlowUp;
 
+impl NoStepHooks for BlowUp {}
+
 impl Formulation for BlowUp {
     fn n_states(&self) -> usize {
         1
@@ -157,6 +161,8 @@ fn blow_up_stops_at_the_singularity() {
 
 /// y' = NaN from t = 0.5 on (a broken force law).
 struct NanAfterHalf;
+
+impl NoStepHooks for NanAfterHalf {}
 
 impl Formulation for NanAfterHalf {
     fn n_states(&self) -> usize {

@@ -7,7 +7,7 @@
 mod common;
 use common::*;
 use linkdyn::analysis::compare;
-use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::model::Model;
 use linkdyn::solve::{Method, Recorder, Sink, SolveError, SolverOptions, SolverStats, integrate};
 
@@ -142,6 +142,8 @@ fn ida_finds_the_same_impacts_on_farahan2016() {
 /// y' = 1/(1 − t): the solution blows up at t = 1; IDA must stop with its own error flag and
 /// the time, not crash or hang.
 struct Blowup;
+impl NoStepHooks for Blowup {}
+
 impl Formulation for Blowup {
     fn n_states(&self) -> usize {
         1
@@ -157,6 +159,8 @@ impl Formulation for Blowup {
 
 /// y' = −y, but the equations refuse (unrecoverably) to be evaluated beyond t = 0.5.
 struct Refuses;
+impl NoStepHooks for Refuses {}
+
 impl Formulation for Refuses {
     fn n_states(&self) -> usize {
         1

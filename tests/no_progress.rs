@@ -7,7 +7,7 @@
 //! independence there (`src/formulation/diagnosis.rs`).
 
 use linkdyn::formulation::{
-    Dae, DaeOptions, Formulation, FormulationError, Generalized, ReducedLagrangian,
+    Dae, DaeOptions, Formulation, FormulationError, Generalized, NoStepHooks, ReducedLagrangian,
 };
 use linkdyn::solve::{Method, SolveError, SolverOptions, Stepper, Stop};
 
@@ -26,6 +26,8 @@ fn failure<F: Formulation>(f: &mut F, t_end: f64, opts: &SolverOptions) -> Solve
 
 /// y' = 1 with a formulation that allows steps of 1e-11 s only (a step guard gone wrong).
 struct Crawling;
+
+impl NoStepHooks for Crawling {}
 
 impl Formulation for Crawling {
     fn n_states(&self) -> usize {
@@ -59,6 +61,8 @@ fn a_collapsed_step_size_stops_the_run_within_the_window() {
 
 /// y' = 1 with steps of at most 1e-6 s: a steady pace, 1e6 attempts per simulated second.
 struct Steady;
+
+impl NoStepHooks for Steady {}
 
 impl Formulation for Steady {
     fn n_states(&self) -> usize {
@@ -134,6 +138,8 @@ fn a_steady_pace_beyond_the_budget_stops_at_a_tenth_of_it() {
 /// hλ inside its stability region (h ≲ 6e-9 s): some 1e10 steps for 100 s.
 struct Stiff;
 
+impl NoStepHooks for Stiff {}
+
 impl Formulation for Stiff {
     fn n_states(&self) -> usize {
         1
@@ -195,6 +201,8 @@ fn a_stiff_problem_is_called_stiff_and_an_implicit_method_is_suggested() {
 
 /// y' = 1, each RHS call sleeping 200 µs: a slow formulation.
 struct Slow;
+
+impl NoStepHooks for Slow {}
 
 impl Formulation for Slow {
     fn n_states(&self) -> usize {

@@ -25,7 +25,7 @@
 mod common;
 
 use linkdyn::analysis::PeriodVerdict;
-use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::simulation::analyses::{self, ModelSection, SectionSpec};
 use linkdyn::simulation::{FormulationKind, Simulation, SimulationOptions};
 use linkdyn::solve::radau5::{Radau5Method, Radau5Settings};
@@ -111,6 +111,8 @@ fn a_dense_slice_around_the_point_finishes() {
 struct Ramp {
     a: f64,
 }
+
+impl NoStepHooks for Ramp {}
 
 impl Formulation for Ramp {
     fn n_states(&self) -> usize {

@@ -15,7 +15,7 @@
 mod common;
 
 use common::ode::OdeRecorder;
-use linkdyn::formulation::{Crossing, EventResponse, Formulation, FormulationError};
+use linkdyn::formulation::{Crossing, EventResponse, Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::radau5::Radau5Settings;
 use linkdyn::solve::{Method, SolveError, SolverOptions, integrate};
 
@@ -24,6 +24,8 @@ use linkdyn::solve::{Method, SolveError, SolverOptions, integrate};
 struct Wall {
     k: f64,
 }
+
+impl NoStepHooks for Wall {}
 
 impl Formulation for Wall {
     fn n_states(&self) -> usize {

@@ -4,7 +4,7 @@
 //! size avoids it. Also: components masked out of error control do not drive the step size.
 //! Radau5 runs through the common driver (`Stepper`, `Method::Radau5`), as in `linkdyn run`.
 
-use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolveError, SolverOptions, SolverStats, Stepper, Stop};
 
 /// Runs Radau5 on `f` from its initial state at t = 0 to `t_end`: the final state and the cost.
@@ -27,6 +27,8 @@ struct Guarded {
     band: f64,
     t_wall: Option<f64>,
 }
+impl NoStepHooks for Guarded {}
+
 impl Formulation for Guarded {
     fn n_states(&self) -> usize {
         1
@@ -110,6 +112,8 @@ fn a_failure_no_step_avoids_is_reported_with_its_time() -> Result<(), SolveError
 struct WithBookkeeping {
     masked: bool,
 }
+impl NoStepHooks for WithBookkeeping {}
+
 impl Formulation for WithBookkeeping {
     fn n_states(&self) -> usize {
         2

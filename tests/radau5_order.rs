@@ -3,12 +3,14 @@
 //! collocation polynomial, order 3) by 2⁴ = 16 inside a single step. Radau5 runs through the
 //! common driver (`Stepper`, `Method::Radau5`).
 
-use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::radau5::Radau5Settings;
 use linkdyn::solve::{Method, SolveError, SolverOptions, Stepper, Stop};
 
 /// y' = y cos t, y(0) = 1: y = e^{sin t} (nonlinear in t, smooth, non-stiff).
 struct ExpSin;
+impl NoStepHooks for ExpSin {}
+
 impl Formulation for ExpSin {
     fn n_states(&self) -> usize {
         1

@@ -4,7 +4,7 @@
 //! conservation law y₁ + y₂ + y₃ = 1). Radau5 runs through the common driver (`Stepper`,
 //! `Method::Radau5`).
 
-use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolveError, SolverOptions, SolverStats, Stepper, Stop};
 
 /// Radau5 options at (rtol, atol), Hairer's default settings.
@@ -43,6 +43,8 @@ impl LinearStiff {
         [slow + fast, slow - fast]
     }
 }
+impl NoStepHooks for LinearStiff {}
+
 impl Formulation for LinearStiff {
     fn n_states(&self) -> usize {
         2
@@ -126,6 +128,8 @@ fn linear_stiff_system_matches_the_closed_form() {
 /// y(0) = (2, 0), t ∈ [0, 2] (the `vdpol` problem of Hairer's stiff test set).
 struct VanDerPol;
 const EPS: f64 = 1e-6;
+impl NoStepHooks for VanDerPol {}
+
 impl Formulation for VanDerPol {
     fn n_states(&self) -> usize {
         2
@@ -183,6 +187,8 @@ fn van_der_pol_matches_the_tight_reference_and_the_published_value() {
 /// Robertson's chemical kinetics: y₁' = −0.04 y₁ + 10⁴ y₂ y₃, y₂' = 0.04 y₁ − 10⁴ y₂ y₃ −
 /// 3·10⁷ y₂², y₃' = 3·10⁷ y₂², y(0) = (1, 0, 0).
 struct Robertson;
+impl NoStepHooks for Robertson {}
+
 impl Formulation for Robertson {
     fn n_states(&self) -> usize {
         3

@@ -507,7 +507,7 @@ fn the_cli_warns_when_the_dae_passed_singular_positions() {
 
 /// The output grid does not change the run. The right-hand sides evaluated for output samples
 /// (reactions, and DOP853's dense output, which calls f) must not count towards the projection
-/// near singular positions (`Formulation::begin_step`): before that rule, sampling every 1 ms
+/// near singular positions (`StepHooks::begin_step`): before that rule, sampling every 1 ms
 /// instead of every 0.25 s moved the chain's state by 2e-9 rad by t = 0.5 s. Chain of three,
 /// DOP853 at rtol 1e-8, 3.5 s: the same steps, the same projections and bit-identical samples
 /// at the common times.
@@ -516,7 +516,7 @@ fn the_output_grid_does_not_change_a_dae_run_through_singular_positions() {
     check_output_grid(Method::Dop853);
 }
 
-/// The same for IDA, whose residuals count as the stages (`Formulation::residual_stages`).
+/// The same for IDA, whose residuals count as the stages (`StepHooks::residual_stages`).
 #[cfg(feature = "ida")]
 #[test]
 fn the_output_grid_does_not_change_an_ida_run_through_singular_positions() {

@@ -5,7 +5,7 @@
 mod common;
 
 use common::ode::Oscillator;
-use linkdyn::formulation::{Crossing, EventResponse, Formulation, FormulationError};
+use linkdyn::formulation::{Crossing, EventResponse, Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{DenseStep, Method, Sink, SolveError, SolverOptions, integrate};
 use std::f64::consts::PI;
 
@@ -110,6 +110,8 @@ fn the_hook_finds_the_true_minimum_between_samples() -> Result<(), SolveError> {
 
 /// A ball dropped from 10 m that bounces elastically (v → −v, restart) on the floor x = 0.
 struct Ball;
+
+impl NoStepHooks for Ball {}
 
 impl Formulation for Ball {
     fn n_states(&self) -> usize {

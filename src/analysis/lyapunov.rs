@@ -50,7 +50,9 @@ use serde::Serialize;
 
 use super::error::{AnalysisError, check_finite};
 use crate::formulation::sparse_jacobian::{SparseJacobian, SparsePattern};
-use crate::formulation::{Crossing, EventResponse, Formulation, FormulationError};
+use crate::formulation::{
+    Crossing, EventResponse, Formulation, FormulationError, StepHooks, Tolerances,
+};
 use crate::solve::{SolveError, SolverOptions, SolverStats, Stepper};
 
 const WHAT: &str = "Lyapunov exponent";
@@ -385,6 +387,39 @@ struct Pair<F> {
     n: usize,
 }
 
+/// Each copy is integrated exactly as it would be alone: its |Φ| check at every step end, its
+/// projection near singular positions, its stage statistics.
+impl<F: Formulation> StepHooks for Pair<F> {
+    fn begin_step(&mut self, t: f64, y: &[f64]) {
+        let (ya, yb) = y.split_at(self.n);
+        self.a.begin_step(t, ya);
+        self.b.begin_step(t, yb);
+    }
+
+    fn residual_stages(&mut self, min_pivot_ratio: f64) {
+        self.a.residual_stages(min_pivot_ratio);
+        self.b.residual_stages(min_pivot_ratio);
+    }
+
+    fn accept_step(
+        &mut self,
+        t: f64,
+        y: &mut [f64],
+        tolerances: Tolerances,
+    ) -> Result<EventResponse, FormulationError> {
+        let (ya, yb) = y.split_at_mut(self.n);
+        let a = self.a.accept_step(t, ya, tolerances)?;
+        let b = self.b.accept_step(t, yb, tolerances)?;
+        Ok(
+            if a == EventResponse::Restart || b == EventResponse::Restart {
+                EventResponse::Restart
+            } else {
+                EventResponse::Continue
+            },
+        )
+    }
+}
+
 impl<F: Formulation> Formulation for Pair<F> {
     fn n_states(&self) -> usize {
         2 * self.n
@@ -439,9 +474,8 @@ impl<F: Formulation> Formulation for Pair<F> {
         self.a.max_step(t, ya).min(self.b.max_step(t, yb))
     }
 
-    // Every step hook is forwarded to both copies: each is integrated exactly as it would be
-    // alone (its bookkeeping states out of error control, the DAE's |Φ| check and projection
-    // near singular positions at every step end, its analytic Jacobian).
+    // Everything a copy tells the integrator is forwarded: its bookkeeping states out of error
+    // control, its step cap, its analytic Jacobian, its diagnosis.
 
     fn jacobian(
         &self,
@@ -485,36 +519,6 @@ impl<F: Formulation> Formulation for Pair<F> {
         let (ca, cb) = controlled.split_at_mut(self.n);
         self.a.error_controlled(ca);
         self.b.error_controlled(cb);
-    }
-
-    fn begin_step(&mut self, t: f64, y: &[f64]) {
-        let (ya, yb) = y.split_at(self.n);
-        self.a.begin_step(t, ya);
-        self.b.begin_step(t, yb);
-    }
-
-    fn residual_stages(&self, min_pivot_ratio: f64) {
-        self.a.residual_stages(min_pivot_ratio);
-        self.b.residual_stages(min_pivot_ratio);
-    }
-
-    fn accept_step(
-        &mut self,
-        t: f64,
-        y: &mut [f64],
-        rtol: f64,
-        atol: f64,
-    ) -> Result<EventResponse, FormulationError> {
-        let (ya, yb) = y.split_at_mut(self.n);
-        let a = self.a.accept_step(t, ya, rtol, atol)?;
-        let b = self.b.accept_step(t, yb, rtol, atol)?;
-        Ok(
-            if a == EventResponse::Restart || b == EventResponse::Restart {
-                EventResponse::Restart
-            } else {
-                EventResponse::Continue
-            },
-        )
     }
 
     fn diagnose(&self, t: f64, y: &[f64]) -> Option<String> {
@@ -608,6 +612,7 @@ impl<F: Formulation> Pair<F> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::formulation::NoStepHooks;
 
     /// x' = v, v' = 0 with an event g = x − 1 that reverses v (a wall at x = 1) and counts its
     /// bounces.
@@ -615,6 +620,8 @@ mod tests {
     struct Wall {
         bounces: usize,
     }
+    impl NoStepHooks for Wall {}
+
     impl Formulation for Wall {
         fn n_states(&self) -> usize {
             2
@@ -670,6 +677,23 @@ mod tests {
     struct Circle {
         projections: usize,
     }
+    impl StepHooks for Circle {
+        fn begin_step(&mut self, _t: f64, _y: &[f64]) {}
+        fn residual_stages(&mut self, _min_pivot_ratio: f64) {}
+        fn accept_step(
+            &mut self,
+            _t: f64,
+            y: &mut [f64],
+            _tolerances: Tolerances,
+        ) -> Result<EventResponse, FormulationError> {
+            let r = y[0].hypot(y[1]);
+            y[0] /= r;
+            y[1] /= r;
+            self.projections += 1;
+            Ok(EventResponse::Restart)
+        }
+    }
+
     impl Formulation for Circle {
         fn n_states(&self) -> usize {
             3
@@ -701,19 +725,6 @@ mod tests {
         }
         fn sparse_jacobian(&self) -> Option<&dyn SparseJacobian> {
             Some(self)
-        }
-        fn accept_step(
-            &mut self,
-            _t: f64,
-            y: &mut [f64],
-            _rtol: f64,
-            _atol: f64,
-        ) -> Result<EventResponse, FormulationError> {
-            let r = y[0].hypot(y[1]);
-            y[0] /= r;
-            y[1] /= r;
-            self.projections += 1;
-            Ok(EventResponse::Restart)
         }
     }
 

@@ -324,9 +324,12 @@ fn run_settling<F: Formulation>(
 mod tests {
     use super::*;
     use crate::formulation::FormulationError;
+    use crate::formulation::NoStepHooks;
 
     /// x' = 1 (x = t), with outputs "x" and "twice".
     struct Clock;
+    impl NoStepHooks for Clock {}
+
     impl Formulation for Clock {
         fn n_states(&self) -> usize {
             1

@@ -51,7 +51,9 @@
 
 use super::assembly::{Assembly, assemble};
 use super::contacts::ContactSites;
-use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
+use super::{
+    Crossing, EventResponse, Formulation, FormulationError, Outputs, StepHooks, Tolerances,
+};
 use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
 use crate::mechanics::planar::{point_acceleration, point_state};
@@ -115,10 +117,12 @@ struct Work {
     last_y: Vec<f64>,
     last_acc: Vec<f64>,
     /// Smallest [`Schur::min_pivot_ratio`] of the right-hand sides since the start of the step
-    /// ([`Formulation::begin_step`]; stages of rejected attempts included, evaluations for
+    /// ([`StepHooks::begin_step`]; stages of rejected
+    /// attempts included, evaluations for
     /// output samples not): how close the step came to a singular position.
     min_pivot_ratio: f64,
-    /// The stages of the step were a residual form's ([`Formulation::residual_stages`]: IDA).
+    /// The stages of the step were a residual form's
+    /// ([`StepHooks::residual_stages`]: IDA).
     residual_stages: bool,
     /// (t, pivot ratio) of the stages since the start of the step that came near a singular
     /// position (ratio below [`PROJECTION_RATIO`]): more samples of the approach than the step
@@ -349,7 +353,8 @@ impl Dae {
     /// Checks |Φ| of every row at (t, y) against [`violation_limit`] with the tolerances
     /// `rtol`, `atol` the method controls (positions in m, angles in rad) and returns the
     /// largest |Φ| (mixed units, as [`Outputs::outputs_into`] reports it). Used at every
-    /// accepted step end ([`Formulation::accept_step`]) and at every output sample
+    /// accepted step end ([`StepHooks::accept_step`])
+    /// and at every output sample
     /// ([`Outputs::check_constraints`]): a state between step ends, interpolated by the dense
     /// output, can be further off the joints than both ends (`linkdyn run
     /// models/double_pendulum.toml --t-end 2 --rtol 0.1 --atol 1` reported samples 2.02 m off
@@ -770,10 +775,10 @@ impl Outputs for Dae {
         &self,
         t: f64,
         y: &[f64],
-        rtol: f64,
-        atol: f64,
+        tolerances: Tolerances,
     ) -> Result<(), FormulationError> {
-        self.check_violation(t, y, rtol, atol).map(|_| ())
+        self.check_violation(t, y, tolerances.rtol, tolerances.atol)
+            .map(|_| ())
     }
 
     fn singular_passages(&self) -> Vec<f64> {
@@ -973,6 +978,67 @@ pub(super) fn sin_cos_of(q: &[f64]) -> Vec<(f64, f64)> {
     (0..q.len() / 3).map(|i| q[3 * i + 2].sin_cos()).collect()
 }
 
+impl StepHooks for Dae {
+    /// The stages of the step start counting towards [`Dae::singular_passages`] and the
+    /// projection near singular positions.
+    fn begin_step(&mut self, _t: f64, _y: &[f64]) {
+        let work = self.work.get_mut();
+        work.min_pivot_ratio = 1.0;
+        work.residual_stages = false;
+        work.stage_ratios.clear();
+    }
+
+    /// The residual form's evaluations in an attempt (IDA's Newton iterates) are the stages of
+    /// the step: their smallest pivot ratio counts as [`Formulation::rhs`]'s do.
+    fn residual_stages(&mut self, min_pivot_ratio: f64) {
+        let work = self.work.get_mut();
+        work.min_pivot_ratio = work.min_pivot_ratio.min(min_pivot_ratio);
+        work.residual_stages = true;
+    }
+
+    /// Near a singular position (a stage of the step with a pivot ratio below
+    /// [`PROJECTION_RATIO`]) projects the step end onto the constraints and asks for a restart
+    /// ([`projection`]). Then checks |Φ| of every row at the step end against
+    /// [`violation_limit`] (positions in m, angles in rad) and keeps the largest |Φ| seen
+    /// ([`Outputs::step_constraint_violation`]). Costs one evaluation of the constraint rows per
+    /// step, a fraction of one RHS call.
+    fn accept_step(
+        &mut self,
+        t: f64,
+        y: &mut [f64],
+        tolerances: Tolerances,
+    ) -> Result<EventResponse, FormulationError> {
+        let stage_min = self.work.get_mut().min_pivot_ratio;
+        let mut response = EventResponse::Continue;
+        if stage_min < PROJECTION_RATIO {
+            let (r_end, projected) = if self.work.get_mut().residual_stages {
+                let mut spacing = self.spacing;
+                spacing.saw(stage_min);
+                let (r_end, projected) =
+                    self.project_state(t, y, &mut self.work.borrow_mut(), |r| spacing.wanted(r))?;
+                spacing.ended(r_end, projected);
+                self.spacing = spacing;
+                (r_end, projected)
+            } else {
+                self.project_state(t, y, &mut self.work.borrow_mut(), |_| true)?
+            };
+            let stages = std::mem::take(&mut self.work.get_mut().stage_ratios);
+            self.episode.add(t, r_end, stage_min, &stages);
+            self.work.get_mut().stage_ratios = stages;
+            if projected {
+                self.projections += 1;
+                response = EventResponse::Restart;
+            }
+        } else if !self.episode.is_empty() {
+            self.singular_passages.extend(self.episode.finish());
+            self.spacing = projection::Spacing::default();
+        }
+        let max = self.check_violation(t, y, tolerances.rtol, tolerances.atol)?;
+        self.max_step_violation = self.max_step_violation.max(max);
+        Ok(response)
+    }
+}
+
 impl Formulation for Dae {
     /// q, q̇ (3 per body each), then the stored impact velocity of each clearance joint.
     /// With energy bookkeeping, three more: driver work, external work, dissipated energy.
@@ -1060,66 +1126,6 @@ impl Formulation for Dae {
             Crossing::Falling => 0.0,
         };
         EventResponse::Restart
-    }
-
-    /// The stages of the step start counting towards [`Dae::singular_passages`] and the
-    /// projection near singular positions.
-    fn begin_step(&mut self, _t: f64, _y: &[f64]) {
-        let work = self.work.get_mut();
-        work.min_pivot_ratio = 1.0;
-        work.residual_stages = false;
-        work.stage_ratios.clear();
-    }
-
-    /// The residual form's evaluations in an attempt (IDA's Newton iterates) are the stages of
-    /// the step: their smallest pivot ratio counts as [`Formulation::rhs`]'s do.
-    fn residual_stages(&self, min_pivot_ratio: f64) {
-        let mut work = self.work.borrow_mut();
-        work.min_pivot_ratio = work.min_pivot_ratio.min(min_pivot_ratio);
-        work.residual_stages = true;
-    }
-
-    /// Near a singular position (a stage of the step with a pivot ratio below
-    /// [`PROJECTION_RATIO`]) projects the step end onto the constraints and asks for a restart
-    /// ([`projection`]). Then checks |Φ| of every row at the step end against
-    /// [`violation_limit`] (positions in m, angles in rad) and keeps the largest |Φ| seen
-    /// ([`Outputs::step_constraint_violation`]). Costs one evaluation of the constraint rows per
-    /// step, a fraction of one RHS call.
-    fn accept_step(
-        &mut self,
-        t: f64,
-        y: &mut [f64],
-        rtol: f64,
-        atol: f64,
-    ) -> Result<EventResponse, FormulationError> {
-        let stage_min = self.work.get_mut().min_pivot_ratio;
-        let mut response = EventResponse::Continue;
-        if stage_min < PROJECTION_RATIO {
-            let (r_end, projected) = if self.work.get_mut().residual_stages {
-                let mut spacing = self.spacing;
-                spacing.saw(stage_min);
-                let (r_end, projected) =
-                    self.project_state(t, y, &mut self.work.borrow_mut(), |r| spacing.wanted(r))?;
-                spacing.ended(r_end, projected);
-                self.spacing = spacing;
-                (r_end, projected)
-            } else {
-                self.project_state(t, y, &mut self.work.borrow_mut(), |_| true)?
-            };
-            let stages = std::mem::take(&mut self.work.get_mut().stage_ratios);
-            self.episode.add(t, r_end, stage_min, &stages);
-            self.work.get_mut().stage_ratios = stages;
-            if projected {
-                self.projections += 1;
-                response = EventResponse::Restart;
-            }
-        } else if !self.episode.is_empty() {
-            self.singular_passages.extend(self.episode.finish());
-            self.spacing = projection::Spacing::default();
-        }
-        let max = self.check_violation(t, y, rtol, atol)?;
-        self.max_step_violation = self.max_step_violation.max(max);
-        Ok(response)
     }
 
     /// Analytic: see `dae/jacobian.rs` (no RHS call).

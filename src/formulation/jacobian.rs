@@ -75,9 +75,12 @@ pub fn finite_difference<F: Formulation + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::formulation::NoStepHooks;
 
     /// f = (y0² y1, sin y0 + e^{y1}, 3 y2 − y0 y1): a dense, nonlinear Jacobian.
     struct Nonlinear;
+    impl NoStepHooks for Nonlinear {}
+
     impl Formulation for Nonlinear {
         fn n_states(&self) -> usize {
             3

@@ -46,10 +46,83 @@ pub enum EventResponse {
     Continue,
 }
 
+/// The tolerances (rtol, atol) that a method's error control works with
+/// ([`SolverOptions::controlled_tolerances`](crate::solve::SolverOptions::controlled_tolerances)):
+/// what a formulation bounds by the accuracy of the run (the DAE's constraint violation,
+/// [`dae::violation_limit`]) is bounded by these.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerances {
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+}
+
+/// What the stepping driver tells a formulation around each step, for formulations that keep
+/// state across steps (the DAE: the constraint-violation bound, projections near singular
+/// positions, the count of singular passages; the generalised formulation: the projection of
+/// every step end).
+///
+/// Kept apart from [`Formulation`] (the equations every formulation has) and without default
+/// methods, so that a wrapper cannot drop a hook silently: it forwards each one to what it
+/// wraps (the Lyapunov analysis's pair of copies does), or says in one line that it has none
+/// ([`NoStepHooks`]).
+pub trait StepHooks {
+    /// Called by the driver before the first attempt of every step from (t, y). A formulation
+    /// that keeps statistics over the stages of a step (the DAE: how near they came to a
+    /// singular position) resets them here, so that right-hand sides evaluated for the dense
+    /// output of the previous step (output samples, which differ from run to run) do not
+    /// count.
+    fn begin_step(&mut self, t: f64, y: &[f64]);
+
+    /// Called by the driver after every attempt of a method that integrates the residual form
+    /// ([`Formulation::residual_form`]; IDA), with the smallest pivot ratio of the constraint
+    /// solve over the residuals it evaluated ([`residual::ResidualForm::take_min_pivot_ratio`]):
+    /// those evaluations are the stages of the step, and the method never calls
+    /// [`Formulation::rhs`] during one.
+    fn residual_stages(&mut self, min_pivot_ratio: f64);
+
+    /// Called by the driver at the end of every accepted step, with the new state (t, y) and
+    /// the tolerances the method controls, before the step is handed to events and samples. A
+    /// formulation checks here what must hold at every step, not only at the output samples
+    /// (the DAE: the constraint violation |Φ| within its bound), and keeps running maxima. It
+    /// may also correct the step end (the DAE projects it onto the constraints near singular
+    /// positions) and then returns [`EventResponse::Restart`]: the integrator restarts from the
+    /// corrected y before the next step (the dense output of the step just taken stays as it
+    /// was). An error stops the run at t.
+    fn accept_step(
+        &mut self,
+        t: f64,
+        y: &mut [f64],
+        tolerances: Tolerances,
+    ) -> Result<EventResponse, FormulationError>;
+}
+
+/// Declares that a formulation has no step hooks: `impl NoStepHooks for MyEquations {}` gives
+/// it the [`StepHooks`] that do nothing (and continue at every step end).
+pub trait NoStepHooks {}
+
+impl<T: NoStepHooks + ?Sized> StepHooks for T {
+    fn begin_step(&mut self, _t: f64, _y: &[f64]) {}
+
+    fn residual_stages(&mut self, _min_pivot_ratio: f64) {}
+
+    fn accept_step(
+        &mut self,
+        _t: f64,
+        _y: &mut [f64],
+        _tolerances: Tolerances,
+    ) -> Result<EventResponse, FormulationError> {
+        Ok(EventResponse::Continue)
+    }
+}
+
 /// Equations of motion in first-order form, y' = f(t, y), plus optional event functions.
 ///
 /// The state layout is the formulation's own business; the integrator only needs its length.
-pub trait Formulation {
+/// What happens around the steps (checks and corrections at step ends) is the separate
+/// [`StepHooks`], which every formulation implements or declines explicitly.
+pub trait Formulation: StepHooks {
     /// Number of first-order states (length of y).
     fn n_states(&self) -> usize;
 
@@ -146,40 +219,6 @@ pub trait Formulation {
         None
     }
 
-    /// Called by the driver before the first attempt of every step from (t, y). A formulation
-    /// that keeps statistics over the stages of a step (the DAE: how near they came to a
-    /// singular position) resets them here, so that right-hand sides evaluated for the dense
-    /// output of the previous step (output samples, which differ from run to run) do not
-    /// count. Default: nothing.
-    fn begin_step(&mut self, _t: f64, _y: &[f64]) {}
-
-    /// Called by a method that integrates the residual form ([`Formulation::residual_form`];
-    /// IDA) after every attempt of a step, with the smallest pivot ratio of the constraint
-    /// solve over the residuals it evaluated ([`residual::ResidualForm::take_min_pivot_ratio`]):
-    /// those evaluations are the stages of the step, and the method never calls
-    /// [`Formulation::rhs`] during one. Default: nothing.
-    fn residual_stages(&self, _min_pivot_ratio: f64) {}
-
-    /// Called by the driver at the end of every accepted step, with the new state (t, y) and
-    /// the tolerances `rtol`, `atol` the method controls
-    /// ([`SolverOptions::controlled_tolerances`](crate::solve::SolverOptions::controlled_tolerances)), before the step is handed to
-    /// events and samples. A formulation checks here what must hold at every step, not only at
-    /// the output samples (the DAE: the constraint violation |Φ| within its bound), and keeps
-    /// running maxima. It may also correct the step end (the DAE projects it onto the
-    /// constraints near singular positions) and then returns [`EventResponse::Restart`]: the
-    /// integrator restarts from the corrected y before the next step (the dense output of the
-    /// step just taken stays as it was). An error stops the run at t. Default: nothing
-    /// ([`EventResponse::Continue`]).
-    fn accept_step(
-        &mut self,
-        _t: f64,
-        _y: &mut [f64],
-        _rtol: f64,
-        _atol: f64,
-    ) -> Result<EventResponse, FormulationError> {
-        Ok(EventResponse::Continue)
-    }
-
     /// What in the mechanism may explain a run that stopped making progress at (t, y): the
     /// constraint rows that are nearly dependent there (a singular position), the clearance
     /// joints at their contact boundary, an ill-conditioned coordinate partition (see
@@ -202,7 +241,7 @@ pub trait Outputs {
     fn outputs_into(&self, t: f64, y: &[f64], out: &mut Vec<f64>) -> Result<f64, FormulationError>;
 
     /// Checks the constraint violation of a reported state between step ends (an output
-    /// sample, from the dense output) against the bound that [`Formulation::accept_step`]
+    /// sample, from the dense output) against the bound that [`StepHooks::accept_step`]
     /// applies at step ends, with the tolerances the method controls (the DAE:
     /// [`dae::violation_limit`]). Default: nothing to check (no constraints, or, for the
     /// generalised formulation, samples projected onto them).
@@ -210,14 +249,13 @@ pub trait Outputs {
         &self,
         _t: f64,
         _y: &[f64],
-        _rtol: f64,
-        _atol: f64,
+        _tolerances: Tolerances,
     ) -> Result<(), FormulationError> {
         Ok(())
     }
 
     /// Largest constraint violation |Φ| over the accepted step ends seen so far by
-    /// [`Formulation::accept_step`] (m or rad; 0 for formulations without constraints).
+    /// [`StepHooks::accept_step`] (m or rad; 0 for formulations without constraints).
     /// Default: 0.
     fn step_constraint_violation(&self) -> f64 {
         0.0

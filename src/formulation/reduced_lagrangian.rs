@@ -80,7 +80,7 @@
 
 use std::cell::Cell;
 
-use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
+use super::{Crossing, EventResponse, Formulation, FormulationError, NoStepHooks, Outputs};
 use crate::contact::{
     CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, ContactMemory,
     free_flight_max_step, impact_velocity, kinks,
@@ -1171,6 +1171,9 @@ impl Outputs for ReducedLagrangian {
         Ok(0.0)
     }
 }
+
+/// Nothing to check or correct at step ends: minimal coordinates have no constraints to drift.
+impl NoStepHooks for ReducedLagrangian {}
 
 impl Formulation for ReducedLagrangian {
     /// [θ3, θ4, θ̇3, θ̇4, δ̇⁽⁻⁾].

@@ -84,7 +84,7 @@ pub trait ResidualForm {
     /// [`Schur::min_pivot_ratio`](super::schur::Schur::min_pivot_ratio): how near a singular
     /// position) over the residuals evaluated since the last call, which starts the count
     /// afresh; 1 where there is none. The integrator hands it to
-    /// [`Formulation::residual_stages`]. Default 1.
+    /// [`StepHooks::residual_stages`](crate::formulation::StepHooks::residual_stages). Default 1.
     fn take_min_pivot_ratio(&self) -> f64 {
         1.0
     }
@@ -244,9 +244,12 @@ pub fn finite_difference_jacobian(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::formulation::NoStepHooks;
 
     /// x'' = −x − x³ as (x, v).
     struct Duffing;
+    impl NoStepHooks for Duffing {}
+
     impl Formulation for Duffing {
         fn n_states(&self) -> usize {
             2

@@ -57,7 +57,8 @@
 //! collapses. Each residual factors S for it (≈ 9 % more time per IDA residual on
 //! farahan2016), and records the smallest pivot ratio it saw
 //! ([`ResidualForm::take_min_pivot_ratio`]), which IDA hands to the DAE
-//! ([`Formulation::residual_stages`]) so that its projection near singular positions acts
+//! ([`StepHooks::residual_stages`](crate::formulation::StepHooks::residual_stages)) so that its
+//! projection near singular positions acts
 //! on IDA runs too (docs/formulations.md, "The DAE at singular positions").
 //!
 //! # Jacobian

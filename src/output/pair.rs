@@ -28,7 +28,7 @@ pub fn impacts_path(csv: &Path) -> PathBuf {
 /// CSV's temporary file; stream the rows into [`ResultPair::csv`], then [`ResultPair::commit`]
 /// (or [`ResultPair::commit_with_files`]) writes the summary and the further files to their
 /// own temporary files, flushes all to disk, writes the commit journal `F.csv.commit`
-/// ([`super::journal`]), renames each over its target, flushes the directory and removes the
+/// (the `journal` module), renames each over its target, flushes the directory and removes the
 /// journal. If anything fails, or the pair is dropped uncommitted, every temporary file and the
 /// lock file are removed and the earlier files at the targets are left untouched: if a rename
 /// fails after earlier ones succeeded, the files they replaced are put back (kept meanwhile as

@@ -45,7 +45,7 @@
 //! jitter above it only costs the full transient.
 //!
 //! It can also start from where a neighbouring point's run ended (a [`WarmState`] of the
-//! reduced formulation, [`ReducedLagrangian::start_from`]) instead of the model's initial
+//! reduced formulation, [`ReducedLagrangian::start_from`](crate::formulation::ReducedLagrangian::start_from)) instead of the model's initial
 //! state: the run then starts at the section's phase, t = t0 + φ/|ω|, where the earlier run's
 //! last point was taken, so the turns and the section stay aligned.
 

@@ -5,7 +5,7 @@
 
 use super::impacts::{ContactProbe, PeakSearch};
 use super::summary::SummaryBuilder;
-use crate::formulation::{Crossing, Formulation, Outputs};
+use crate::formulation::{Crossing, Formulation, Outputs, Tolerances};
 use crate::solve::{DenseStep, EventRecord, Sink, SolveError};
 use std::time::{Duration, Instant};
 
@@ -70,7 +70,7 @@ pub(super) struct Observed<'s, S: SampleSink + ?Sized> {
     peaks: PeakSearch,
     /// The tolerances (rtol, atol) the method controls, for the constraint check of the samples
     /// ([`Outputs::check_constraints`]).
-    tolerances: (f64, f64),
+    tolerances: Tolerances,
 }
 
 impl<'s, S: SampleSink + ?Sized> Observed<'s, S> {
@@ -78,7 +78,7 @@ impl<'s, S: SampleSink + ?Sized> Observed<'s, S> {
         summary: SummaryBuilder,
         consumer: &'s mut S,
         columns: usize,
-        tolerances: (f64, f64),
+        tolerances: Tolerances,
     ) -> Self {
         Observed {
             summary,
@@ -97,8 +97,7 @@ impl<F: Formulation + Outputs + ContactProbe, S: SampleSink + ?Sized> Sink<F> fo
             .outputs_into(t, y, &mut self.row)
             .map_err(|source| SolveError::Formulation { t, source })?;
         // A sample between step ends is held to the same bound as the step ends.
-        let (rtol, atol) = self.tolerances;
-        f.check_constraints(t, y, rtol, atol)
+        f.check_constraints(t, y, self.tolerances)
             .map_err(|source| SolveError::Formulation { t, source })?;
         self.summary.sample_at(t, &self.row, violation);
         let started = Instant::now();

@@ -195,6 +195,7 @@ pub(crate) fn initial_step<F: Formulation + ?Sized>(
 mod tests {
     use super::*;
     use crate::formulation::FormulationError;
+    use crate::formulation::NoStepHooks;
 
     const DOPRI5: ControlParams = ControlParams {
         q: 5.0,
@@ -254,6 +255,8 @@ mod tests {
     }
 
     struct Decay;
+    impl NoStepHooks for Decay {}
+
     impl Formulation for Decay {
         fn n_states(&self) -> usize {
             1

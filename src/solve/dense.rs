@@ -20,7 +20,8 @@ pub struct DenseStep<'s, F: Formulation + ?Sized> {
     /// (t, y) at the step end while y is still the step's end state.
     pub(crate) end: Option<(f64, &'s [f64])>,
     /// The end state in `end` is the method's own solution (not corrected by
-    /// [`Formulation::accept_step`]), so the method's slope there is f at that state.
+    /// [`StepHooks::accept_step`](crate::formulation::StepHooks::accept_step)), so the method's
+    /// slope there is f at that state.
     pub(crate) end_is_solution: bool,
 }
 

@@ -263,4 +263,14 @@ pub trait Integrator<F: Formulation + ?Sized> {
     fn stiffness_detected(&self) -> bool {
         false
     }
+
+    /// For a method that integrates the residual form
+    /// ([`Formulation::residual_form`]; IDA): the smallest pivot ratio of the constraint solve
+    /// over the residuals of the last attempt, which are its stages (the driver hands it to
+    /// [`StepHooks::residual_stages`](crate::formulation::StepHooks::residual_stages)). Taken
+    /// once per attempt. `None` (the default): the stages are right-hand sides, which the
+    /// formulation observes itself.
+    fn take_residual_stages(&mut self) -> Option<f64> {
+        None
+    }
 }

@@ -42,11 +42,13 @@
 //!
 //! # Example
 //! ```
-//! use linkdyn::formulation::{Formulation, FormulationError};
+//! use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 //! use linkdyn::solve::{integrate, Method, SolveError, SolverOptions, Sink};
 //!
 //! /// x'' = -x as (x, v).
 //! struct Oscillator;
+//! impl NoStepHooks for Oscillator {}
+//!
 //! impl Formulation for Oscillator {
 //!     fn n_states(&self) -> usize { 2 }
 //!     fn initial_state(&self) -> Vec<f64> { vec![1.0, 0.0] }

@@ -6,6 +6,7 @@ use std::str::FromStr;
 use serde::Serialize;
 
 use super::error::SolveError;
+use crate::formulation::Tolerances;
 
 /// The integration method used by the [`Stepper`](crate::solve::Stepper): the one selector for
 /// every integrator.
@@ -318,13 +319,14 @@ impl SolverOptions {
     /// with the rtol asked for but 0.25 of the controlled one (docs/numerics.md, "The
     /// constraint-violation bound").
     #[must_use]
-    pub fn controlled_tolerances(&self) -> (f64, f64) {
-        match self.method {
+    pub fn controlled_tolerances(&self) -> Tolerances {
+        let (rtol, atol) = match self.method {
             Method::Radau5 if self.radau5.hairer_tolerances => {
                 hairer_transform(self.rtol, self.atol)
             }
             _ => (self.rtol, self.atol),
-        }
+        };
+        Tolerances { rtol, atol }
     }
 
     /// Sets the relative tolerance.

@@ -5,7 +5,8 @@
 //! restarts, the limits (`max_steps`, `max_wall`, the no-progress rule of `progress.rs` — its
 //! error completed with the formulation's [`Formulation::diagnose`] at the stall state — the
 //! step floor), NaN checks and the formulation's check of every accepted step end
-//! ([`Formulation::accept_step`]) (see [`Integrator`] for the contract).
+//! ([`StepHooks::accept_step`](crate::formulation::StepHooks::accept_step)) (see [`Integrator`] for
+//! the contract).
 //!
 //! Each call of [`Stepper::step`] says why it stopped ([`Stop`]). After it returns, the
 //! trajectory is final up to [`Stepper::t_reached`] and the dense output of the last step can be
@@ -73,10 +74,12 @@ pub(super) enum Phase {
 /// Adaptive explicit Runge–Kutta integrator of a [`Formulation`] from `t0` to `t_end`.
 ///
 /// ```
-/// use linkdyn::formulation::{Formulation, FormulationError};
+/// use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 /// use linkdyn::solve::{SolverOptions, Stepper, Stop};
 ///
 /// struct Decay;
+/// impl NoStepHooks for Decay {}
+///
 /// impl Formulation for Decay {
 ///     fn n_states(&self) -> usize { 1 }
 ///     fn initial_state(&self) -> Vec<f64> { vec![1.0] }
@@ -100,10 +103,12 @@ pub(super) enum Phase {
 /// Integrator of a [`Formulation`] from `t0` to `t_end` with the method of the options.
 ///
 /// ```
-/// use linkdyn::formulation::{Formulation, FormulationError};
+/// use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 /// use linkdyn::solve::{SolverOptions, Stepper, Stop};
 ///
 /// struct Decay;
+/// impl NoStepHooks for Decay {}
+///
 /// impl Formulation for Decay {
 ///     fn n_states(&self) -> usize { 1 }
 ///     fn initial_state(&self) -> Vec<f64> { vec![1.0] }
@@ -154,7 +159,8 @@ pub struct Stepper<'a, F: Formulation> {
     pub(super) step_final: bool,
     /// ... and has been handed to the sink's step hook.
     step_hooked: bool,
-    /// The formulation corrected the last step end ([`Formulation::accept_step`]): restart the
+    /// The formulation corrected the last step end
+    /// ([`StepHooks::accept_step`](crate::formulation::StepHooks::accept_step)): restart the
     /// method from it before the next step.
     pub(super) restart_before_next_step: bool,
 }
@@ -392,7 +398,11 @@ impl<'a, F: Formulation> Stepper<'a, F> {
                 t_new,
                 error_control: adaptive,
             };
-            let h_next = match self.integrator.attempt(&*self.f, &trial, &mut self.stats) {
+            let attempt = self.integrator.attempt(&*self.f, &trial, &mut self.stats);
+            if let Some(ratio) = self.integrator.take_residual_stages() {
+                self.f.residual_stages(ratio);
+            }
+            let h_next = match attempt {
                 Ok(Attempt::Accepted { h_next }) => h_next,
                 Ok(Attempt::Rejected { h_next, cause }) => {
                     self.stats.rejected += 1;
@@ -425,8 +435,10 @@ impl<'a, F: Formulation> Stepper<'a, F> {
             // What must hold at every accepted step, not only at samples (the DAE's |Φ|), with
             // the tolerances the method controls; the formulation may correct the step end, and
             // the method then restarts from it.
-            let (rtol, atol) = self.opts.controlled_tolerances();
-            match self.f.accept_step(t_new, &mut self.y, rtol, atol) {
+            match self
+                .f
+                .accept_step(t_new, &mut self.y, self.opts.controlled_tolerances())
+            {
                 Ok(EventResponse::Continue) => {}
                 Ok(EventResponse::Restart) => self.restart_before_next_step = true,
                 Err(source) => {
@@ -584,9 +596,12 @@ impl<'a, F: Formulation> Stepper<'a, F> {
 mod tests {
     use super::*;
     use crate::formulation::FormulationError;
+    use crate::formulation::NoStepHooks;
 
     /// y' = cos t, y(0) = 0: y = sin t.
     struct Sine;
+    impl NoStepHooks for Sine {}
+
     impl Formulation for Sine {
         fn n_states(&self) -> usize {
             1

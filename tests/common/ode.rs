@@ -1,6 +1,6 @@
 //! Reference problems and a recording sink shared by the integration tests.
 
-use linkdyn::formulation::{Formulation, FormulationError};
+use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{EventRecord, Sink, SolveError};
 
 /// Harmonic oscillator x'' = −ω² x as (x, v), x(0) = 1, v(0) = 0: x = cos ωt, v = −ω sin ωt.
@@ -16,6 +16,8 @@ impl Oscillator {
         [(w * t).cos(), -w * (w * t).sin()]
     }
 }
+
+impl NoStepHooks for Oscillator {}
 
 impl Formulation for Oscillator {
     fn n_states(&self) -> usize {
@@ -40,6 +42,8 @@ impl ExpSin {
         t.sin().exp()
     }
 }
+
+impl NoStepHooks for ExpSin {}
 
 impl Formulation for ExpSin {
     fn n_states(&self) -> usize {

@@ -353,7 +353,7 @@ fn whole_results(
         .and_then(|i| args.get(i + 1))
         .and_then(|v| v.parse().ok())
         .unwrap_or(linkdyn::solve::SolverOptions::default().method);
-    let (rtol, atol) = linkdyn::solve::SolverOptions::default()
+    let linkdyn::formulation::Tolerances { rtol, atol } = linkdyn::solve::SolverOptions::default()
         .method(method)
         .rtol(tol("--rtol", 1e-8))
         .atol(tol("--atol", 1e-10))

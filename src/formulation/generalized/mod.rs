@@ -88,7 +88,9 @@ pub use block::BlockSolver;
 
 use super::contacts::ContactSites;
 use super::dae::{Dae, DaeOptions};
-use super::{Crossing, EventResponse, Formulation, FormulationError, Outputs};
+use super::{
+    Crossing, EventResponse, Formulation, FormulationError, Outputs, StepHooks, Tolerances,
+};
 use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet};
 use crate::model::{Baumgarte, Model};
@@ -732,6 +734,31 @@ impl Generalized {
     }
 }
 
+impl StepHooks for Generalized {
+    /// No statistics over the stages: every step end is projected.
+    fn begin_step(&mut self, _t: f64, _y: &[f64]) {}
+
+    /// Not reached: the generalised formulation has no residual form (IDA integrates it as an
+    /// ODE, whose residuals are right-hand sides).
+    fn residual_stages(&mut self, _min_pivot_ratio: f64) {}
+
+    /// Keeps the largest |Φ| left by the projection of the step ends (Newton's tolerance:
+    /// the formulation has no drift to bound).
+    fn accept_step(
+        &mut self,
+        t: f64,
+        y: &mut [f64],
+        _tolerances: Tolerances,
+    ) -> Result<EventResponse, FormulationError> {
+        let mut work = self.work.borrow_mut();
+        self.project_into(t, y, &mut work)?;
+        let residual = work.residual;
+        drop(work);
+        self.max_step_violation = self.max_step_violation.max(residual);
+        Ok(EventResponse::Continue)
+    }
+}
+
 impl Formulation for Generalized {
     /// z and ż (f each), the DAE's states (q, q̇, stored impact velocities, energy integrals)
     /// and one partition flag per coordinate.
@@ -884,23 +911,6 @@ impl Formulation for Generalized {
         self.repartitions += 1;
         self.write_independent(&w.y, y);
         EventResponse::Restart
-    }
-
-    /// Keeps the largest |Φ| left by the projection of the step ends (Newton's tolerance:
-    /// the formulation has no drift to bound).
-    fn accept_step(
-        &mut self,
-        t: f64,
-        y: &mut [f64],
-        _rtol: f64,
-        _atol: f64,
-    ) -> Result<EventResponse, FormulationError> {
-        let mut work = self.work.borrow_mut();
-        self.project_into(t, y, &mut work)?;
-        let residual = work.residual;
-        drop(work);
-        self.max_step_violation = self.max_step_violation.max(residual);
-        Ok(EventResponse::Continue)
     }
 
     /// The partition's condition (current and best pivot ratio, the independent coordinates

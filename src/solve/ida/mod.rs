@@ -227,6 +227,9 @@ pub struct IdaMethod {
     n_pieces: usize,
     scratch: Scratch,
     counts: IdaCounts,
+    /// The smallest pivot ratio over the residuals of the last attempt, until the driver takes
+    /// it ([`Integrator::take_residual_stages`]).
+    stage_pivot_ratio: Option<f64>,
 }
 
 impl IdaMethod {
@@ -250,6 +253,7 @@ impl IdaMethod {
             n_pieces: 0,
             scratch: Scratch::default(),
             counts: IdaCounts::default(),
+            stage_pivot_ratio: None,
         }
     }
 
@@ -510,8 +514,9 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
             }
         }
         // IDA's residuals are the stages of this step (rejected ones included), for the
-        // formulation's checks at the step end (the DAE's projection near singular positions).
-        f.residual_stages(form.take_min_pivot_ratio());
+        // formulation's checks at the step end (the DAE's projection near singular positions):
+        // the driver hands them on (`take_residual_stages`).
+        self.stage_pivot_ratio = Some(form.take_min_pivot_ratio());
         stats.rhs_evals += equations.jacobian_rhs_calls;
         stats.jacobian_rhs_evals += equations.jacobian_rhs_calls;
         let formulation_error = equations.error.take();
@@ -554,6 +559,10 @@ impl<F: Formulation + ?Sized> Integrator<F> for IdaMethod {
 
     fn solution(&self) -> &[f64] {
         &self.solution
+    }
+
+    fn take_residual_stages(&mut self) -> Option<f64> {
+        self.stage_pivot_ratio.take()
     }
 
     fn interpolate(

@@ -63,11 +63,13 @@
 //! more room than before; a formulation's Jacobian may allocate its own scratch.
 //!
 //! ```
-//! use linkdyn::formulation::{Formulation, FormulationError};
+//! use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 //! use linkdyn::solve::{Method, SolverOptions, Stepper, Stop};
 //!
 //! /// y' = −1000 (y − cos t): stiff, y follows cos t closely.
 //! struct Stiff;
+//! impl NoStepHooks for Stiff {}
+//!
 //! impl Formulation for Stiff {
 //!     fn n_states(&self) -> usize { 1 }
 //!     fn initial_state(&self) -> Vec<f64> { vec![0.0] }
