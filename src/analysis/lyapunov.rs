@@ -475,7 +475,10 @@ impl<F: Formulation> Formulation for Pair<F> {
     }
 
     // Everything a copy tells the integrator is forwarded: its bookkeeping states out of error
-    // control, its step cap, its analytic Jacobian, its diagnosis.
+    // control, its step cap, its analytic Jacobian, its diagnosis. Two defaults stay on
+    // purpose: `second_order_positions` is 0 (the pair's states [q_a, v_a, q_b, v_b] do not
+    // start with all positions), and `residual_form` is none (IDA integrates the pair as an
+    // ODE; its stages are then right-hand sides, which each copy observes itself).
 
     fn jacobian(
         &self,
