@@ -87,11 +87,9 @@ impl Simulation {
             check_sampling(t_end, options.dt, 0)?;
         }
         let solver = options::check_solver(&options.solver)?;
-        // The friction kinks are event functions for Radau5, which ends its steps at them; the
-        // other methods' steps do not change there, and the extra located events only move
-        // their impact times by rounding, which a chaotic loose run (DOP853 at rtol 3e-4)
-        // amplifies into a different trajectory.
-        let kinks = solver.method == solve::Method::Radau5;
+        // The friction kinks are event functions where the method needs them
+        // (`MethodInfo::friction_kink_events`).
+        let kinks = solver.method.info().friction_kink_events;
         let formulation = match options.formulation {
             FormulationKind::Dae => {
                 let dae_options = DaeOptions {

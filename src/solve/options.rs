@@ -14,10 +14,12 @@ use crate::formulation::Tolerances;
 /// Names (for [`FromStr`], [`Display`](fmt::Display) and serde): `"dopri5"`, `"dop853"`,
 /// `"radau5"`.
 ///
-/// Adding a method is local: a variant here with an arm in each `match` of this `impl` (name,
-/// order, dense order, description, implicit or not, default β), the variant in [`Method::ALL`],
-/// and one arm in `solve::methods::new_integrator` that builds its
-/// [`Integrator`](crate::solve::Integrator).
+/// Adding a method is local: a variant here, its row ([`MethodInfo`]: name, orders,
+/// description, what it needs from a formulation) in [`Method::info`], the variant in
+/// [`Method::ALL`], and one arm in `solve::methods::new_integrator` that builds its
+/// [`Integrator`](crate::solve::Integrator). Settings of its own go in a struct of their own in
+/// [`SolverOptions`] (as [`ExplicitRkSettings`] and
+/// [`Radau5Settings`](crate::solve::radau5::Radau5Settings)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Method {
@@ -40,6 +42,73 @@ pub enum Method {
     Ida,
 }
 
+/// One method's row of the table [`Method::info`]: everything the rest of linkdyn asks about a
+/// method, in one place.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodInfo {
+    /// Name as accepted by [`FromStr`].
+    pub name: &'static str,
+    /// Classical order p of the propagated solution.
+    pub order: u32,
+    /// Order of the continuous extension (dense output).
+    pub dense_order: u32,
+    /// One line describing the method (for `linkdyn run --help`).
+    pub description: &'static str,
+    /// Whether the method solves a nonlinear system per step (suited to stiff problems).
+    pub implicit: bool,
+    /// Hairer's default PI-control exponent β (explicit pairs only; see
+    /// [`ExplicitRkSettings::beta`]).
+    pub default_beta: f64,
+    /// Whether the formulation should give the friction law's kinks as event functions, so
+    /// that the method's steps end at them (Radau5: its order-3 error estimate does not see a
+    /// kink inside a step, and the step sequence it builds after one is ragged; see the
+    /// formulations' `friction_kink_events`).
+    pub friction_kink_events: bool,
+}
+
+const DOPRI5: MethodInfo = MethodInfo {
+    name: "dopri5",
+    order: 5,
+    dense_order: 4,
+    description: "Dormand–Prince 5(4), explicit, 6 RHS calls per step, 4th-order dense output; loose tolerances (rtol ≳ 1e-7)",
+    implicit: false,
+    default_beta: 0.04,
+    // Its steps do not change at a kink; located kinks would only move impact times by
+    // rounding, which a chaotic loose run amplifies into a different trajectory.
+    friction_kink_events: false,
+};
+
+const DOP853: MethodInfo = MethodInfo {
+    name: "dop853",
+    order: 8,
+    dense_order: 7,
+    description: "Hairer's DOP853 8(5,3), explicit, 12 RHS calls per step, 7th-order dense output; tight tolerances (default)",
+    implicit: false,
+    default_beta: 0.0,
+    friction_kink_events: false,
+};
+
+const RADAU5: MethodInfo = MethodInfo {
+    name: "radau5",
+    order: 5,
+    dense_order: 3,
+    description: "Radau IIA order 5 (RADAU5), implicit, L-stable, Newton with the formulation's Jacobian (analytic for the reduced model), cubic dense output; stiff contact phases",
+    implicit: true,
+    default_beta: 0.0,
+    friction_kink_events: true,
+};
+
+#[cfg(feature = "ida")]
+const IDA: MethodInfo = MethodInfo {
+    name: "ida",
+    order: 5,
+    dense_order: 5,
+    description: IDA_DESCRIPTION,
+    implicit: true,
+    default_beta: 0.0,
+    friction_kink_events: false,
+};
+
 /// Hairer's tolerance transform of RADAU5: rtol' = 0.1·rtol^(2/3), atol' = atol·rtol'/rtol
 /// (the embedded error estimate is of order 3 only; the transform makes the global error
 /// roughly proportional to rtol).
@@ -52,81 +121,54 @@ impl Method {
     /// All methods, in a fixed order (for sweeps in tests and benches).
     pub const ALL: [Method; 3] = [Method::Dopri5, Method::Dop853, Method::Radau5];
 
+    /// The method's row of the table: name, orders, description, what it needs.
+    #[must_use]
+    pub const fn info(self) -> &'static MethodInfo {
+        match self {
+            Method::Dopri5 => &DOPRI5,
+            Method::Dop853 => &DOP853,
+            Method::Radau5 => &RADAU5,
+            #[cfg(feature = "ida")]
+            Method::Ida => &IDA,
+        }
+    }
+
     /// Name as accepted by [`FromStr`].
     #[must_use]
     pub fn name(self) -> &'static str {
-        match self {
-            Method::Dopri5 => "dopri5",
-            Method::Dop853 => "dop853",
-            Method::Radau5 => "radau5",
-            #[cfg(feature = "ida")]
-            Method::Ida => "ida",
-        }
+        self.info().name
     }
 
     /// Classical order p of the propagated solution (5 or 8).
     #[must_use]
     pub fn order(self) -> u32 {
-        match self {
-            Method::Dopri5 | Method::Radau5 => 5,
-            Method::Dop853 => 8,
-            #[cfg(feature = "ida")]
-            Method::Ida => 5,
-        }
+        self.info().order
     }
 
     /// Order of the continuous extension (dense output): 4, 7, or 3 (Radau5).
     #[must_use]
     pub fn dense_order(self) -> u32 {
-        match self {
-            Method::Dopri5 => 4,
-            Method::Dop853 => 7,
-            Method::Radau5 => 3,
-            #[cfg(feature = "ida")]
-            Method::Ida => 5,
-        }
+        self.info().dense_order
     }
 
     /// Hairer's default PI-control exponent β: 0.04 for DOPRI5, 0 for DOP853 (explicit pairs
     /// only; see [`ExplicitRkSettings::beta`]).
     #[must_use]
     pub fn default_beta(self) -> f64 {
-        match self {
-            Method::Dopri5 => 0.04,
-            Method::Dop853 | Method::Radau5 => 0.0,
-            #[cfg(feature = "ida")]
-            Method::Ida => 0.0,
-        }
+        self.info().default_beta
     }
 
     /// One line describing the method (for `linkdyn run --help`).
     #[must_use]
     pub fn description(self) -> &'static str {
-        match self {
-            Method::Dopri5 => {
-                "Dormand–Prince 5(4), explicit, 6 RHS calls per step, 4th-order dense output; loose tolerances (rtol ≳ 1e-7)"
-            }
-            Method::Dop853 => {
-                "Hairer's DOP853 8(5,3), explicit, 12 RHS calls per step, 7th-order dense output; tight tolerances (default)"
-            }
-            Method::Radau5 => {
-                "Radau IIA order 5 (RADAU5), implicit, L-stable, Newton with the formulation's Jacobian (analytic for the reduced model), cubic dense output; stiff contact phases"
-            }
-            #[cfg(feature = "ida")]
-            Method::Ida => IDA_DESCRIPTION,
-        }
+        self.info().description
     }
 
     /// Whether the method is implicit (solves a nonlinear system per step: suited to stiff
     /// problems).
     #[must_use]
     pub fn is_implicit(self) -> bool {
-        match self {
-            Method::Dopri5 | Method::Dop853 => false,
-            Method::Radau5 => true,
-            #[cfg(feature = "ida")]
-            Method::Ida => true,
-        }
+        self.info().implicit
     }
 
     /// The names of all methods as `"a", "b" or "c"` (for messages).
