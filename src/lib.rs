@@ -6,7 +6,8 @@
 //! [`simulation::Simulation`] (formulation, end time, sampling and solver settings, all checked
 //! before any work) → samples streamed to a [`simulation::SampleSink`] (a CSV file:
 //! [`output::CsvSink`]) or kept as a [`simulation::Trajectory`] → [`analysis`] and result files
-//! ([`output`]). Every run returns a [`simulation::RunSummary`]: provenance, solver statistics,
+//! ([`output`]); studies of many runs (work against precision, the stress table, the two
+//! formulations compared) in [`studies`]. Every run returns a [`simulation::RunSummary`]: provenance, solver statistics,
 //! constraint violation, per clearance joint the impacts and contact maxima, and with the
 //! energy bookkeeping the work–energy balance.
 //!
@@ -45,11 +46,13 @@ pub mod error;
 pub mod formulation;
 pub mod mechanics;
 pub mod model;
+pub mod numbers;
 pub mod output;
 pub mod plot;
 pub mod reproduce;
 pub mod simulation;
 pub mod solve;
+pub mod studies;
 
 pub use error::{Error, Result};
 

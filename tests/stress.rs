@@ -3,8 +3,8 @@
 //! cases the model validation refuses carry its message; a run over its budget is "slow" with
 //! the fraction of t_end it reached; the CSV has the provenance and one row per cell.
 
-use linkdyn::analysis::stress::{FOURBAR, cases};
 use linkdyn::solve::Method;
+use linkdyn::studies::stress::{FOURBAR, cases};
 
 mod cli_common;
 use cli_common::{linkdyn, scratch};

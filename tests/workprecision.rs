@@ -4,11 +4,11 @@
 //! cells with the reason (the table goes on), and the command writes the CSV, the markdown table
 //! and both figures whole.
 
-use linkdyn::analysis::workprecision::{
-    CSV_HEADER, WorkPrecisionOptions, WorkPrecisionReport, run_workprecision,
-};
 use linkdyn::simulation::{EndTime, FormulationKind};
 use linkdyn::solve::Method;
+use linkdyn::studies::workprecision::{
+    CSV_HEADER, WorkPrecisionOptions, WorkPrecisionReport, run_workprecision,
+};
 
 mod cli_common;
 use cli_common::linkdyn;

@@ -1,12 +1,9 @@
 //! Differences between two runs of the same model (e.g. two formulations) sampled on the same
-//! grid: largest difference per common column, and the pairing of their impacts.
-//! [`compare_formulations`] runs the DAE and the reduced formulation with the same settings
-//! and compares them.
+//! grid: largest difference per common column, and the pairing of their impacts. Runs are
+//! anything [`Sampled`]: a [`Recorder`] of the stepping driver, a simulation's `Trajectory`.
+//! (`studies::compare_formulations` runs the DAE and the reduced formulation and compares them.)
 
-use crate::error::Result;
 use crate::formulation::Crossing;
-use crate::model::Model;
-use crate::simulation::{FormulationKind, RunSummary, Simulation, SimulationOptions, Trajectory};
 use crate::solve::{EventRecord, Recorder};
 use serde::Serialize;
 
@@ -46,7 +43,8 @@ impl Comparison {
     }
 }
 
-/// A sampled run that [`compare`] can read: a [`Recorder`] or a [`Trajectory`].
+/// A sampled run that [`compare()`] can read: a [`Recorder`] or a
+/// [`Trajectory`](crate::simulation::Trajectory).
 pub trait Sampled {
     /// Column names.
     fn names(&self) -> &[String];
@@ -72,24 +70,6 @@ impl Sampled for Recorder {
     }
     fn value(&self, i: usize, k: usize) -> f64 {
         self.row(i)[k]
-    }
-    fn events(&self) -> &[EventRecord] {
-        &self.events
-    }
-}
-
-impl Sampled for Trajectory {
-    fn names(&self) -> &[String] {
-        &self.names
-    }
-    fn samples(&self) -> usize {
-        self.len()
-    }
-    fn time(&self, i: usize) -> f64 {
-        self.t[i]
-    }
-    fn value(&self, i: usize, k: usize) -> f64 {
-        self.columns[k][i]
     }
     fn events(&self) -> &[EventRecord] {
         &self.events
@@ -150,35 +130,4 @@ pub fn compare(a: &impl Sampled, b: &impl Sampled, n_events: usize) -> Compariso
             })
             .collect(),
     }
-}
-
-/// The DAE and the reduced formulation of one model run with the same settings.
-#[derive(Debug, Clone, Serialize)]
-pub struct FormulationComparison {
-    /// Summary of the DAE run (its provenance is the comparison's).
-    pub dae: RunSummary,
-    /// Summary of the reduced run.
-    pub reduced: RunSummary,
-    /// Their differences (run a: DAE, run b: reduced; event k: clearance joint k).
-    pub comparison: Comparison,
-}
-
-/// Runs `model` with the DAE and with the reduced formulation, both with `options` (its
-/// `formulation` is ignored; the energy bookkeeping must be off, as the reduced formulation
-/// has none), and compares them. Both simulations are built — every setting checked — before
-/// either runs.
-pub fn compare_formulations(
-    model: &Model,
-    options: &SimulationOptions,
-) -> Result<FormulationComparison> {
-    let with = |kind| Simulation::new(model, options.clone().formulation(kind));
-    let dae = with(FormulationKind::Dae)?;
-    let reduced = with(FormulationKind::Reduced)?;
-    let (a, b) = (dae.run_to_memory()?, reduced.run_to_memory()?);
-    let comparison = compare(&a, &b, dae.clearance_joints().len());
-    Ok(FormulationComparison {
-        dae: a.summary,
-        reduced: b.summary,
-        comparison,
-    })
 }

@@ -1,5 +1,6 @@
-//! Analyses of finished runs and of formulations; each returns plain data (no files, no
-//! printing).
+//! Tools that analyse runs and formulations; each returns plain data (no files, no printing).
+//! They sit below [`crate::simulation`], which uses them (a Poincaré section, a spectrum of its
+//! output); the studies that build whole simulations are in [`crate::studies`].
 //!
 //! | file | job |
 //! |---|---|
@@ -9,9 +10,7 @@
 //! | [`period`] | period-k verdict on a sequence of Poincaré points |
 //! | [`lyapunov`] | largest Lyapunov exponent (two trajectories, renormalisation) |
 //! | [`phase`] | phase-portrait data (value against rate) |
-//! | [`stress`] | stress table: extreme cases × formulations × methods, a verdict each |
 //! | [`sweep`] | parameter-sweep bookkeeping: grid, shards, resume, merge, parallel map |
-//! | [`workprecision`] | error against cost for every formulation × method × tolerance |
 //! | [`error`] | [`AnalysisError`] |
 
 pub mod compare;
@@ -21,13 +20,9 @@ pub mod period;
 pub mod phase;
 pub mod poincare;
 pub mod spectrum;
-pub mod stress;
 pub mod sweep;
-pub mod workprecision;
 
-pub use compare::{
-    ColumnDifference, Comparison, FormulationComparison, Sampled, compare, compare_formulations,
-};
+pub use compare::{ColumnDifference, Comparison, Sampled, compare};
 pub use error::AnalysisError;
 pub use lyapunov::{LyapunovEstimate, LyapunovOptions, largest_lyapunov};
 pub use period::{PeriodAnalysis, PeriodOptions, PeriodVerdict, period_verdict};

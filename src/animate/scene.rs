@@ -339,7 +339,7 @@ pub fn draw(model: &Model, now: &Instant, options: &DrawOptions) -> Scene {
     if model.has_clearance_joints() {
         caption.push(format!(
             "clearance circles, journal offsets and paths × {}",
-            crate::simulation::format_number(m)
+            crate::numbers::format_number(m)
         ));
     }
     Scene {
@@ -526,10 +526,7 @@ impl Scene {
         }
         if let Some(scale) = self.force_scale {
             let (force, len) = legend_force(scale * view.scale);
-            let label = format!(
-                "contact force {} N",
-                crate::simulation::format_number(force)
-            );
+            let label = format!("contact force {} N", crate::numbers::format_number(force));
             let x1 = w - SIDE_PX * 0.75;
             let x0 = x1 - len;
             let (shaft, head) = arrow([x0, base - 5.0], [x1, base - 5.0]);

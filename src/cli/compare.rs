@@ -4,9 +4,9 @@
 use super::args::SolveArgs;
 use super::{Failure, in_model};
 use clap::Args;
-use linkdyn::analysis::compare_formulations;
 use linkdyn::output::{self, Provenance};
 use linkdyn::simulation::{Simulation, clearance_joint_names};
+use linkdyn::studies::compare_formulations;
 use serde::Serialize;
 use std::path::PathBuf;
 

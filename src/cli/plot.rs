@@ -199,14 +199,13 @@ pub fn run(args: &PlotArgs) -> Result<(), Failure> {
                 message: format!("{}: {reason}", file.display()),
             })?;
             linkdyn::plot::Format::from_path(&common.out)?;
-            let picture = linkdyn::plot::mechanism(
-                &model,
-                &run,
-                *time,
-                *magnify,
-                common.size,
-                common.title.clone(),
-            )?;
+            let options = linkdyn::animate::AnimationOptions {
+                size: common.size,
+                magnify: *magnify,
+                title: common.title.clone(),
+                ..linkdyn::animate::AnimationOptions::default()
+            };
+            let picture = linkdyn::animate::still(&model, &run, *time, &options)?;
             linkdyn::animate::write_still(&picture, &common.out)?;
             eprintln!("{}", common.out.display());
             return Ok(());

@@ -1,15 +1,15 @@
 //! `linkdyn stress [--quick] [--out F.csv]`: the stress table of
-//! [`linkdyn::analysis::stress`] — extreme cases × formulations × methods × tolerances, a
+//! [`linkdyn::studies::stress`] — extreme cases × formulations × methods × tolerances, a
 //! verdict each — printed as aligned columns and optionally written as a CSV with provenance.
 
 use super::{Failure, csv_field};
 use clap::Args;
 use linkdyn::Error;
-use linkdyn::analysis::stress::{
-    FOURBAR, SLIDER_CRANK, StressCell, StressOptions, StressReport, run_stress,
-};
 use linkdyn::output::{self, AtomicFile, Provenance, format_number};
 use linkdyn::simulation::escape_line;
+use linkdyn::studies::stress::{
+    FOURBAR, SLIDER_CRANK, StressCell, StressOptions, StressReport, run_stress,
+};
 use std::path::PathBuf;
 
 /// Arguments of `stress`.
@@ -61,7 +61,7 @@ fn fields(c: &StressCell, exact: bool) -> [String; 12] {
         }
     };
     let mut note = c.note.clone();
-    if let (Some(f), linkdyn::analysis::stress::Verdict::Slow) = (c.fraction_reached, c.verdict) {
+    if let (Some(f), linkdyn::studies::stress::Verdict::Slow) = (c.fraction_reached, c.verdict) {
         note = format!("reached {:.1} %: {note}", 100.0 * f);
     }
     [
@@ -180,7 +180,7 @@ pub fn run(args: &StressArgs) -> Result<(), Failure> {
         }
     });
     let count = |v| report.cells.iter().filter(|c| c.verdict == v).count();
-    let verdicts = linkdyn::analysis::stress::Verdict::ALL.map(|v| format!("{} {v}", count(v)));
+    let verdicts = linkdyn::studies::stress::Verdict::ALL.map(|v| format!("{} {v}", count(v)));
     println!("{} cells: {}", report.cells.len(), verdicts.join(", "));
     if let Some(path) = &args.out {
         let mut text = HEADER.join(",");

@@ -1,18 +1,18 @@
 //! `linkdyn workprecision MODEL [--revs N] [--formulations …] [--methods …] [--rtols …]
 //! [--repeats K] --out DIR`: the work–precision table of
-//! [`linkdyn::analysis::workprecision`] — every formulation × method × tolerance, its error
+//! [`linkdyn::studies::workprecision`] — every formulation × method × tolerance, its error
 //! against a confirmed reference and its cost — printed as it runs and written as
 //! `DIR/workprecision.csv`, `.md`, `.png` and `.svg`.
 
 use super::Failure;
 use clap::Args;
 use linkdyn::Error;
-use linkdyn::analysis::workprecision::{
-    Progress, WorkPrecisionOptions, csv_text, markdown_text, run_workprecision,
-};
 use linkdyn::output::{self, AtomicFile};
 use linkdyn::simulation::{EndTime, FormulationKind};
 use linkdyn::solve::{Method, SolveError};
+use linkdyn::studies::workprecision::{
+    Progress, WorkPrecisionOptions, csv_text, markdown_text, run_workprecision,
+};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `workprecision`.

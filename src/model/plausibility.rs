@@ -4,7 +4,7 @@
 //! refusals: a model may mean them. The command line prints them before any work.
 
 use super::types::{DriverMotion, Frame, JointKind, Model};
-use crate::simulation::format_for_people as short;
+use crate::numbers::format_for_people as short;
 use std::f64::consts::{PI, TAU};
 
 /// Fastest plausible speed of a driven body's points (m/s). The paper's four-bar at 5000 rpm

@@ -264,7 +264,7 @@ pub struct Driver {
 impl Driver {
     /// One line for `linkdyn check`: the motion and its data.
     pub fn describe(&self) -> String {
-        use crate::simulation::format_for_people as people;
+        use crate::numbers::format_for_people as people;
         let rpm = |w: f64| people(w * 30.0 / std::f64::consts::PI);
         match &self.motion {
             DriverMotion::ConstantSpeed => format!(

@@ -28,7 +28,8 @@ mod scratch;
 mod summary;
 mod target;
 
-pub use crate::simulation::{Provenance, format_for_people, format_number, push_number};
+pub use crate::numbers::{format_for_people, format_number, push_number};
+pub use crate::simulation::Provenance;
 pub use atomic::AtomicFile;
 pub use csv::{CsvSink, csv_header};
 pub use impacts::{IMPACTS_HEADER, impacts_csv};

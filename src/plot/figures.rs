@@ -168,7 +168,7 @@ pub fn orbit(run: &Table, joint: &str, clearance: f64) -> Result<Figure, PlotErr
     let mut fig = Figure::new(
         format!(
             "Journal centre orbit, joint {joint} (c = {} mm): {}",
-            crate::simulation::format_number(c_mm),
+            crate::numbers::format_number(c_mm),
             run.file_name()
         ),
         Axis::labelled(format!("{joint}.ex (mm)")),

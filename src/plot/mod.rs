@@ -27,14 +27,12 @@
 mod error;
 pub mod figures;
 pub mod font;
-mod mechanism;
 mod render;
 mod table;
 mod units;
 pub mod workprecision;
 
 pub use error::PlotError;
-pub use mechanism::{mechanism, row_at};
 pub use render::{Format, render, render_to_bytes};
 pub use table::Table;
 pub use units::{axis_label, unit_of};

@@ -4,7 +4,7 @@
 //! log axis cannot show them; the CSV and the markdown table list them).
 
 use super::{Axis, Figure, PlotError, Series, Style};
-use crate::analysis::workprecision::WorkPrecisionReport;
+use crate::studies::workprecision::WorkPrecisionReport;
 
 /// Radius of the dot marking each tolerance (pixels).
 const DOT: u32 = 4;

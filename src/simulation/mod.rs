@@ -39,7 +39,7 @@ pub use impacts::{ContactPoint, ContactProbe, Impact, PermanentContact};
 pub use options::{
     EndTime, FormulationKind, MAX_OUTPUT_VALUES, SimulationOptions, check_sampling, end_time,
 };
-pub use provenance::{Provenance, escape_line, format_for_people, format_number, push_number};
+pub use provenance::{Provenance, escape_line};
 pub use sink::{Discard, Sample, SampleSink};
 pub use summary::{ClearanceSummary, EnergyBalance, FIRST_IMPACTS, RunSummary, SummaryBuilder};
 pub use trajectory::{Columns, Trajectory};
@@ -199,7 +199,7 @@ impl Simulation {
     /// every setting (`formulation`, `method`, `rtol`, `atol`, `t_end`, `dt`, and for the DAE
     /// the Baumgarte factors).
     pub fn provenance(&self) -> Provenance {
-        let fmt = format_number;
+        let fmt = crate::numbers::format_number;
         let solver = &self.options.solver;
         let mut settings = vec![
             ("formulation", self.options.formulation.to_string()),

@@ -3,6 +3,7 @@
 
 use super::sink::{Sample, SampleSink};
 use super::{Provenance, RunSummary};
+use crate::analysis::Sampled;
 use crate::solve::{EventRecord, SolveError, SolverStats};
 
 /// A finished run kept in memory.
@@ -68,6 +69,25 @@ pub struct Columns {
     pub constraint_violation: Vec<f64>,
     /// Events.
     pub events: Vec<EventRecord>,
+}
+
+/// A finished run as the comparison tool reads it ([`crate::analysis::compare()`]).
+impl Sampled for Trajectory {
+    fn names(&self) -> &[String] {
+        &self.names
+    }
+    fn samples(&self) -> usize {
+        self.len()
+    }
+    fn time(&self, i: usize) -> f64 {
+        self.t[i]
+    }
+    fn value(&self, i: usize, k: usize) -> f64 {
+        self.columns[k][i]
+    }
+    fn events(&self) -> &[EventRecord] {
+        &self.events
+    }
 }
 
 impl Columns {

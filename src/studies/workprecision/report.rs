@@ -3,7 +3,7 @@
 //! strings: the caller writes them (atomically).
 
 use super::{Cell, CellErrors, Reference, WorkPrecisionReport};
-use crate::simulation::format_number;
+use crate::numbers::format_number;
 
 /// Columns of the CSV, in order.
 pub const CSV_HEADER: [&str; 18] = [

@@ -45,9 +45,9 @@ pub use report::{CSV_HEADER, csv_text, markdown_text};
 
 use crate::error::Error;
 use crate::model::Model;
+use crate::numbers::format_number;
 use crate::simulation::{
     Discard, EndTime, FormulationKind, Provenance, Simulation, SimulationOptions, Trajectory,
-    format_number,
 };
 use crate::solve::{Method, SolverOptions, SolverStats};
 use serde::Serialize;

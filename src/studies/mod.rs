@@ -1,0 +1,15 @@
+//! Studies: many simulations of a model, run and judged together. They build
+//! [`Simulation`](crate::simulation::Simulation)s, so they sit above [`crate::simulation`] (the
+//! tools that a simulation itself uses are in [`crate::analysis`]).
+//!
+//! | file | job |
+//! |---|---|
+//! | [`formulations`] | the DAE and the reduced formulation of one model, run and compared |
+//! | [`stress`] | stress table: extreme cases × formulations × methods, a verdict each |
+//! | [`workprecision`] | error against cost for every formulation × method × tolerance |
+
+pub mod formulations;
+pub mod stress;
+pub mod workprecision;
+
+pub use formulations::{FormulationComparison, compare_formulations};
