@@ -1,0 +1,474 @@
+//! Joints: ideal, translational and clearance joints with their materials, contact laws and friction.
+
+use super::*;
+
+impl Builder<'_, '_> {
+    pub(super) fn joints(
+        &self,
+        raw: &[JointFile],
+        scope: &Scope<'_>,
+        seen: &mut HashSet<String>,
+    ) -> Res<Vec<Joint>> {
+        let mut joints = Vec::with_capacity(raw.len());
+        for j in raw {
+            let name = self.unique(seen, &j.name, "joint")?;
+            let owner = format!("joint \"{name}\"");
+            let sp = |o: &Option<Name>| o.as_ref().map(|v| v.span());
+            let sn = |o: &Option<Num>| o.as_ref().map(|v| v.span());
+            let present = [
+                ("body_a", sp(&j.body_a)),
+                ("point_a", sp(&j.point_a)),
+                ("body_b", sp(&j.body_b)),
+                ("point_b", sp(&j.point_b)),
+                ("axis", j.axis.as_ref().map(|v| v.span())),
+                ("angle", sn(&j.angle)),
+                ("bearing", sp(&j.bearing)),
+                ("bearing_point", sp(&j.bearing_point)),
+                ("journal", sp(&j.journal)),
+                ("journal_point", sp(&j.journal_point)),
+                ("clearance", sn(&j.clearance)),
+                ("journal_radius", sn(&j.journal_radius)),
+                ("youngs_modulus", sn(&j.youngs_modulus)),
+                ("poisson_ratio", sn(&j.poisson_ratio)),
+                (
+                    "bearing_material",
+                    j.bearing_material.as_ref().map(|v| v.span()),
+                ),
+                (
+                    "journal_material",
+                    j.journal_material.as_ref().map(|v| v.span()),
+                ),
+                ("stiffness", sn(&j.stiffness)),
+                (
+                    "initial_eccentricity",
+                    j.initial_eccentricity.as_ref().map(|v| v.span()),
+                ),
+                ("contact", j.contact.as_ref().map(|v| v.span())),
+                ("friction", j.friction.as_ref().map(|v| v.span())),
+                ("ideal", j.ideal.as_ref().map(|v| v.span())),
+            ];
+            let at = j.name.span();
+            let kind_name = j.kind.get_ref().trim();
+            let (a, b, kind) = match kind_name {
+                "revolute" | "prismatic" => {
+                    let mut allowed = vec!["body_a", "point_a", "body_b", "point_b"];
+                    if kind_name == "prismatic" {
+                        allowed.extend(["axis", "angle"]);
+                    }
+                    self.only_fields(&present, &allowed, &format!("{kind_name} joint"))?;
+                    let what = format!("{kind_name} joint \"{name}\"");
+                    let a = self.anchor(
+                        scope,
+                        self.required(&j.body_a, "body_a", &what, at.clone())?,
+                        self.required(&j.point_a, "point_a", &what, at.clone())?,
+                        &owner,
+                    )?;
+                    let b = self.anchor(
+                        scope,
+                        self.required(&j.body_b, "body_b", &what, at.clone())?,
+                        self.required(&j.point_b, "point_b", &what, at.clone())?,
+                        &owner,
+                    )?;
+                    let kind = if kind_name == "revolute" {
+                        JointKind::Revolute
+                    } else {
+                        JointKind::Prismatic {
+                            axis: self.axis(j.axis.as_ref())?,
+                            angle: j
+                                .angle
+                                .as_ref()
+                                .map(|v| self.finite(v, "angle (rad)"))
+                                .transpose()?
+                                .unwrap_or(0.0),
+                        }
+                    };
+                    (a, b, kind)
+                }
+                "clearance" => {
+                    let allowed = [
+                        "bearing",
+                        "bearing_point",
+                        "journal",
+                        "journal_point",
+                        "clearance",
+                        "journal_radius",
+                        "youngs_modulus",
+                        "poisson_ratio",
+                        "bearing_material",
+                        "journal_material",
+                        "stiffness",
+                        "initial_eccentricity",
+                        "contact",
+                        "friction",
+                        "ideal",
+                    ];
+                    self.only_fields(&present, &allowed, "clearance joint")?;
+                    let what = format!("clearance joint \"{name}\"");
+                    let a = self.anchor(
+                        scope,
+                        self.required(&j.bearing, "bearing", &what, at.clone())?,
+                        self.required(&j.bearing_point, "bearing_point", &what, at.clone())?,
+                        &owner,
+                    )?;
+                    let b = self.anchor(
+                        scope,
+                        self.required(&j.journal, "journal", &what, at.clone())?,
+                        self.required(&j.journal_point, "journal_point", &what, at.clone())?,
+                        &owner,
+                    )?;
+                    (
+                        a,
+                        b,
+                        JointKind::Clearance(self.clearance(j, &what, at.clone())?),
+                    )
+                }
+                other => {
+                    return Err(self.err(
+                        j.kind.span(),
+                        format!(
+                            "unknown joint type \"{other}\"; expected \"revolute\", \"prismatic\" or \"clearance\"{}",
+                            did_you_mean(other, ["revolute", "prismatic", "clearance"])
+                        ),
+                    ));
+                }
+            };
+            if a.frame == b.frame {
+                return Err(self.err(
+                    at,
+                    format!(
+                        "joint \"{name}\" connects \"{}\" to itself; expected two different bodies",
+                        match a.frame {
+                            Frame::Ground => "ground",
+                            Frame::Body(id) => &scope.bodies[id.0].name,
+                        }
+                    ),
+                ));
+            }
+            let joint = Joint { name, a, b, kind };
+            // `ideal = true`: the clearance data above are validated, then set aside.
+            if j.ideal.as_ref().is_some_and(|v| *v.get_ref()) {
+                joints.push(super::super::ideal::ideal_joint(joint));
+            } else {
+                joints.push(joint);
+            }
+        }
+        Ok(joints)
+    }
+
+    pub(super) fn axis(&self, axis: Option<&Vec2>) -> Res<[f64; 2]> {
+        let Some(v) = axis else {
+            return Ok([1.0, 0.0]);
+        };
+        let [x, y] = self.vec2(v, "axis")?;
+        let n = x.hypot(y);
+        if n < 1e-12 {
+            return Err(self.err(v.span(), "expected a non-zero sliding axis, found [0, 0]"));
+        }
+        Ok([x / n, y / n])
+    }
+
+    pub(super) fn material(&self, m: &Spanned<MaterialFile>) -> Res<Material> {
+        let f = m.get_ref();
+        Ok(Material {
+            youngs_modulus: self.youngs_modulus(&f.youngs_modulus)?,
+            poisson_ratio: self.poisson(&f.poisson_ratio)?,
+        })
+    }
+
+    pub(super) fn youngs_modulus(&self, v: &Num) -> Res<f64> {
+        self.within(
+            v,
+            "Young's modulus (Pa)",
+            MIN_YOUNGS_MODULUS,
+            MAX_YOUNGS_MODULUS,
+            "from soft rubber to diamond",
+        )
+    }
+
+    /// ν ∈ (−1, 0.5): the bounds of a stable isotropic solid, both open; at ν = −1 both
+    /// compliances σ = (1 − ν²)/E vanish and K = 4/(3(σ_J + σ_B)) divides by zero.
+    pub(super) fn poisson(&self, v: &Num) -> Res<f64> {
+        let nu = self.finite(v, "Poisson ratio")?;
+        if nu > -1.0 && nu < 0.5 {
+            Ok(nu)
+        } else {
+            Err(self.err(
+                v.span(),
+                format!("expected a Poisson ratio in (-1, 0.5), found {nu}"),
+            ))
+        }
+    }
+
+    pub(super) fn clearance(
+        &self,
+        j: &JointFile,
+        what: &str,
+        at: Range<usize>,
+    ) -> Res<ClearanceSpec> {
+        let c_field = self.required(&j.clearance, "clearance", what, at.clone())?;
+        self.positive(c_field, "radial clearance (m)")?;
+        let r_field = self.required(&j.journal_radius, "journal_radius", what, at.clone())?;
+        self.positive(r_field, "journal radius (m)")?;
+        let journal_radius = self.within(
+            r_field,
+            "journal radius (m)",
+            MIN_JOURNAL_RADIUS,
+            MAX_JOURNAL_RADIUS,
+            "from micro-mechanism pins to ship shafts",
+        )?;
+        let clearance = self.within(
+            c_field,
+            "radial clearance (m)",
+            MIN_CLEARANCE,
+            f64::INFINITY,
+            "the roughness of polished surfaces",
+        )?;
+        // c ≥ R_J makes the bearing at least twice the journal's size: no longer a joint with
+        // clearance, and the contact geometry (nearly conforming cylinders) no longer holds.
+        if clearance >= journal_radius {
+            return Err(self.err(
+                c_field.span(),
+                format!(
+                    "radial clearance c = {clearance:e} m is not smaller than the journal radius R_J = {journal_radius:e} m; expected c < R_J (a bearing of more than twice the journal's radius is not a clearance joint)"
+                ),
+            ));
+        }
+        // Shared material first; a per-side table overrides it. Steel (207 GPa, 0.3) by default,
+        // as in Flores et al. 2007 for this mechanism.
+        let shared = Material {
+            youngs_modulus: j
+                .youngs_modulus
+                .as_ref()
+                .map(|v| self.youngs_modulus(v))
+                .transpose()?
+                .unwrap_or(207e9),
+            poisson_ratio: j
+                .poisson_ratio
+                .as_ref()
+                .map(|v| self.poisson(v))
+                .transpose()?
+                .unwrap_or(0.3),
+        };
+        let bearing_material = j
+            .bearing_material
+            .as_ref()
+            .map(|m| self.material(m))
+            .transpose()?
+            .unwrap_or(shared);
+        let journal_material = j
+            .journal_material
+            .as_ref()
+            .map(|m| self.material(m))
+            .transpose()?
+            .unwrap_or(shared);
+        let stiffness_override = j
+            .stiffness
+            .as_ref()
+            .map(|v| {
+                self.within(
+                    v,
+                    "contact stiffness K (N/m^n)",
+                    MIN_STIFFNESS,
+                    MAX_STIFFNESS,
+                    "the range the material and size bounds give",
+                )
+            })
+            .transpose()?;
+        let initial_eccentricity = match &j.initial_eccentricity {
+            None => [0.0, 0.0],
+            Some(v) => {
+                let e = self.vec2(v, "initial eccentricity (m)")?;
+                // On the wall (|e| = c) the contact would begin without an impact event, so the
+                // impact velocity δ̇⁽⁻⁾ that scales the damping would be unknown; such a run
+                // made no impact and did not finish in 1e7 steps (models/farahan2016.toml).
+                if e[0].hypot(e[1]) >= clearance {
+                    return Err(self.err(
+                        v.span(),
+                        format!(
+                            "initial eccentricity |e| = {:.6e} m is not smaller than the clearance {clearance:.6e} m; expected the journal strictly inside the bearing, since a contact that is under way at t = 0 has no impact velocity to scale its damping",
+                            e[0].hypot(e[1])
+                        ),
+                    ));
+                }
+                e
+            }
+        };
+        let (law, restitution, exponent) = self.contact(j.contact.as_ref())?;
+        let friction = self.friction(j.friction.as_ref())?;
+        Ok(ClearanceSpec {
+            clearance,
+            journal_radius,
+            bearing_material,
+            journal_material,
+            stiffness_override,
+            law,
+            restitution,
+            exponent,
+            friction,
+            initial_eccentricity,
+        })
+    }
+
+    pub(super) fn contact(
+        &self,
+        c: Option<&Spanned<ContactFile>>,
+    ) -> Res<(ContactLawKind, f64, f64)> {
+        let Some(c) = c else {
+            return Ok((ContactLawKind::LankaraniNikravesh, 0.9, 1.5));
+        };
+        let f = c.get_ref();
+        let law = match &f.law {
+            None => ContactLawKind::LankaraniNikravesh,
+            Some(l) => match l.get_ref().trim() {
+                "lankarani-nikravesh" => ContactLawKind::LankaraniNikravesh,
+                "hunt-crossley" => ContactLawKind::HuntCrossley,
+                "flores" => ContactLawKind::Flores,
+                "hertz" => ContactLawKind::Hertz,
+                other => {
+                    let laws = laws::names(laws::CONTACT);
+                    return Err(self.err(
+                        l.span(),
+                        format!(
+                            "unknown contact law \"{other}\"; expected one of {}{}",
+                            laws.join(", "),
+                            did_you_mean(other, laws.iter().copied())
+                        ),
+                    ));
+                }
+            },
+        };
+        let restitution = match &f.restitution {
+            None => 0.9,
+            Some(v) => {
+                let cr = self.finite(v, "coefficient of restitution")?;
+                if !(cr > 0.0 && cr <= 1.0) {
+                    return Err(self.err(
+                        v.span(),
+                        format!("expected a coefficient of restitution in (0, 1], found {cr}"),
+                    ));
+                }
+                cr
+            }
+        };
+        if let Some(v) = &f.restitution {
+            match law {
+                // c_r = 1 states what Hertz is (purely elastic), so it contradicts nothing; any
+                // other value would be silently ignored.
+                ContactLawKind::Hertz if restitution != 1.0 => {
+                    return Err(self.err(
+                        v.span(),
+                        format!(
+                            "field `restitution` does not belong to the hertz law, which is purely elastic (c_r = 1), found c_r = {restitution}; remove it, or choose lankarani-nikravesh, hunt-crossley or flores for a dissipative contact"
+                        ),
+                    ));
+                }
+                ContactLawKind::Flores if restitution < MIN_FLORES_RESTITUTION => {
+                    return Err(self.err(
+                        v.span(),
+                        format!(
+                            "expected a coefficient of restitution of at least {MIN_FLORES_RESTITUTION} for the flores law, found {restitution}: its damping factor 8(1 − c_r)/(5 c_r) grows as 1/c_r (c_r = 1e-4 costs 56× the work of 0.9, 1e-5 475×), and c_r < 0.01 is a plastic impact that no continuous contact law describes"
+                        ),
+                    ));
+                }
+                _ => {}
+            }
+        }
+        // Hertz has no damping: record c_r = 1, which is what it simulates.
+        let restitution = if law == ContactLawKind::Hertz {
+            1.0
+        } else {
+            restitution
+        };
+        let exponent = match &f.exponent {
+            None => 1.5,
+            Some(v) => {
+                let n = self.finite(v, "exponent")?;
+                if !(1.0..=3.0).contains(&n) {
+                    return Err(self.err(
+                        v.span(),
+                        format!("expected a contact exponent in [1, 3], found {n}"),
+                    ));
+                }
+                n
+            }
+        };
+        Ok((law, restitution, exponent))
+    }
+
+    pub(super) fn friction(&self, f: Option<&Spanned<FrictionFile>>) -> Res<FrictionSpec> {
+        let default = FrictionSpec::Ambrosio {
+            coefficient: 0.1,
+            v0: 1e-4,
+            v1: 1e-3,
+        };
+        let Some(fr) = f else {
+            return Ok(default);
+        };
+        let t = fr.get_ref();
+        match t.law.as_ref().map(|l| (l.get_ref().trim(), l.span())) {
+            Some(("none", _)) => {
+                let extra = [
+                    ("coefficient", &t.coefficient),
+                    ("v0", &t.v0),
+                    ("v1", &t.v1),
+                ];
+                if let Some((field, Some(v))) = extra.iter().find(|(_, v)| v.is_some()) {
+                    return Err(self.err(
+                        v.span(),
+                        format!("field `{field}` does not belong to friction law \"none\""),
+                    ));
+                }
+                Ok(FrictionSpec::None)
+            }
+            None | Some(("ambrosio" | "ambrosio-as-printed", _)) => {
+                let as_printed = t
+                    .law
+                    .as_ref()
+                    .is_some_and(|l| l.get_ref().trim() == "ambrosio-as-printed");
+                let coefficient = t
+                    .coefficient
+                    .as_ref()
+                    .map(|v| self.non_negative(v, "friction coefficient"))
+                    .transpose()?
+                    .unwrap_or(0.1);
+                let v0 =
+                    t.v0.as_ref()
+                        .map(|v| self.non_negative(v, "v0 (m/s)"))
+                        .transpose()?
+                        .unwrap_or(1e-4);
+                let v1 =
+                    t.v1.as_ref()
+                        .map(|v| self.positive(v, "v1 (m/s)"))
+                        .transpose()?
+                        .unwrap_or(1e-3);
+                if v1 <= v0 {
+                    let span = t.v1.as_ref().map_or_else(|| fr.span(), |v| v.span());
+                    return Err(self.err(
+                        span,
+                        format!("expected v1 > v0, found v0 = {v0}, v1 = {v1}"),
+                    ));
+                }
+                Ok(if as_printed {
+                    FrictionSpec::AmbrosioAsPrinted {
+                        coefficient,
+                        v0,
+                        v1,
+                    }
+                } else {
+                    FrictionSpec::Ambrosio {
+                        coefficient,
+                        v0,
+                        v1,
+                    }
+                })
+            }
+            Some((other, span)) => Err(self.err(
+                span,
+                format!(
+                    "unknown friction law \"{other}\"; expected \"ambrosio\", \"none\" or \"ambrosio-as-printed\"{}",
+                    did_you_mean(other, ["ambrosio", "none", "ambrosio-as-printed"])
+                ),
+            )),
+        }
+    }
+}
