@@ -69,7 +69,7 @@ fn ida_matches_the_reference_on_the_ideal_fourbar() {
 }
 
 /// A chain of 5 parallel four-bars (11 bodies, 32 constraint rows: the skyline Schur
-/// complement for the consistent λ of `formulation::residual_dae`, IDA's dense solver on
+/// complement for the consistent λ of `formulation::dae::residual`, IDA's dense solver on
 /// N = 2·33 + 32 unknowns), half a swing: IDA at rtol 1e-8 against DOP853 at rtol 1e-11 on
 /// every link angle. Smooth and non-stiff like the ideal four-bar, so the same bound,
 /// 200·rtol·max|θ|.

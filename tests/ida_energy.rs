@@ -61,7 +61,7 @@ fn energy_bookkeeping_does_not_change_the_ida_motion() {
     // (17 J largest |integral|). The bound, 5e-6 of that swing (8.5e-5 J), is four times the
     // scatter and still two hundred times below a missed impact's share of the dissipation
     // (≈ 0.4 J / 22). With IDA's own λ in the driver power the difference was 5e-3 J
-    // (`formulation::residual_dae`).
+    // (`formulation::dae::residual`).
     let (reference, _, _) = run(true, Method::Dop853, 1e-10);
     let (Some((_, ida_end)), Some((_, ref_end))) =
         (booked.samples.last(), reference.samples.last())

@@ -1,6 +1,6 @@
 //! SUNDIALS IDA on every formulation of the clearance four-bar, at both speeds of the paper:
 //! `farahan2016` at 250 and 3500 rpm, two crank turns. The DAE runs in its own residual form
-//! (λ as algebraic unknowns, `formulation::residual_dae`); the reduced Lagrangian and the
+//! (λ as algebraic unknowns, `formulation::dae::residual`); the reduced Lagrangian and the
 //! generalized formulation as the implicit ODE Ẏ − f(t, Y) (`formulation::residual::OdeResidual`)
 //! with their own Jacobians — their states have no algebraic part, so that is their residual
 //! form. Each run agrees with DOP853 at rtol 1e-11 on the same formulation within a bound

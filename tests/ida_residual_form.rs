@@ -1,4 +1,4 @@
-//! The DAE in residual form F(t, Y, Ẏ) = 0 (`formulation::residual_dae`), the equations IDA
+//! The DAE in residual form F(t, Y, Ẏ) = 0 (`formulation::dae::residual`), the equations IDA
 //! integrates: it is the same DAE as the explicit path's (the residual vanishes at the state,
 //! q̈ and λ of `Dae`), and its iteration matrix ∂F/∂Y + c ∂F/∂Ẏ matches forward differences of
 //! the residual — on the ideal four-bar, the clearance four-bar in contact (with and without

@@ -30,7 +30,7 @@
 //! position the motion is free along u and inertia carries it through on the branch it is on;
 //! at a true lock (b not in the range of Φ_q: no motion can go on) the force grows like 1/μ and
 //! the step size collapses there, which the stall diagnosis reports
-//! ([`super::diagnosis`]). A drift on arrival at a crossing of two branches leaves it as a
+//! ([`diagnosis`]). A drift on arrival at a crossing of two branches leaves it as a
 //! deflection ~1e3 times larger, which the Baumgarte terms at their default 10 s⁻¹ do not damp
 //! before the next passage: the step ends near singular positions are therefore projected onto
 //! the constraints ([`projection`]), and the passages are reported (`dae/passages.rs`,
@@ -62,9 +62,11 @@ use std::cell::RefCell;
 
 use super::schur::{Schur, SchurSolver};
 
+pub mod diagnosis;
 mod jacobian;
 mod passages;
 pub mod projection;
+pub mod residual;
 mod sparse_jacobian;
 use projection::PROJECTION_RATIO;
 
@@ -396,7 +398,7 @@ impl Dae {
             .is_some_and(|&source| is_angle_row(source));
         drop(guard);
         // A violation near a lock or singular position says which rows lost independence.
-        let diagnosis = super::diagnosis::dae(self, t, y)
+        let diagnosis = diagnosis::dae(self, t, y)
             .map(|d| format!(". At t = {t:.9} s: {d}"))
             .unwrap_or_default()
             .into_boxed_str();
@@ -1147,14 +1149,14 @@ impl Formulation for Dae {
     }
 
     /// Near-dependent constraint rows and clearance joints at their contact boundary
-    /// ([`super::diagnosis::dae`]).
+    /// ([`diagnosis::dae`]).
     fn diagnose(&self, t: f64, y: &[f64]) -> Option<String> {
-        super::diagnosis::dae(self, t, y)
+        diagnosis::dae(self, t, y)
     }
 
-    /// With λ as algebraic unknowns ([`super::residual_dae`]).
+    /// With λ as algebraic unknowns ([`residual`]).
     fn residual_form(&self) -> Option<Box<dyn super::residual::ResidualForm>> {
-        Some(Box::new(super::residual_dae::DaeResidual::new(self)))
+        Some(Box::new(residual::DaeResidual::new(self)))
     }
 
     /// The grazing guard of the free clearance joints (∞ without clearance joints).

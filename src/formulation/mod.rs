@@ -9,12 +9,10 @@ pub mod cholesky;
 pub mod contact_slopes;
 pub mod contacts;
 pub mod dae;
-pub mod diagnosis;
 pub mod generalized;
 pub mod jacobian;
 pub mod reduced_lagrangian;
 pub mod residual;
-pub mod residual_dae;
 pub mod schur;
 pub mod sparse_jacobian;
 #[cfg(test)]
@@ -222,7 +220,7 @@ pub trait Formulation: StepHooks {
     /// What in the mechanism may explain a run that stopped making progress at (t, y): the
     /// constraint rows that are nearly dependent there (a singular position), the clearance
     /// joints at their contact boundary, an ill-conditioned coordinate partition (see
-    /// [`diagnosis`]). Called once, by the no-progress rule of the integrators, and appended
+    /// [`dae::diagnosis`]). Called once, by the no-progress rule of the integrators, and appended
     /// to its message ([`SolveError::NoProgress`](crate::solve::SolveError::NoProgress)).
     /// Default: `None` (nothing to add).
     fn diagnose(&self, _t: f64, _y: &[f64]) -> Option<String> {

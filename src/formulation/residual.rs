@@ -3,7 +3,7 @@
 //!
 //! A formulation that has one returns it from
 //! [`Formulation::residual_form`]: the DAE does
-//! ([`DaeResidual`](super::residual_dae::DaeResidual), with the Lagrange multipliers λ as
+//! ([`DaeResidual`](super::dae::residual::DaeResidual), with the Lagrange multipliers λ as
 //! algebraic unknowns). Every other formulation is integrated as the implicit ODE
 //! F = Ẏ − f(t, Y) ([`OdeResidual`]).
 //!

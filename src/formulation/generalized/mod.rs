@@ -915,7 +915,7 @@ impl Formulation for Generalized {
 
     /// The partition's condition (current and best pivot ratio, the independent coordinates
     /// by name), then the DAE's diagnosis at the projected state
-    /// ([`super::diagnosis::generalized`]).
+    /// ([`super::dae::diagnosis::generalized`]).
     fn diagnose(&self, t: f64, y: &[f64]) -> Option<String> {
         let start = self.dae_start();
         let stored = y.get(start..start + self.n_dae)?;
@@ -942,7 +942,7 @@ impl Formulation for Generalized {
         };
         let state = work.y.clone();
         drop(work);
-        super::diagnosis::generalized(
+        super::dae::diagnosis::generalized(
             &self.dae,
             t,
             projected.as_ref().map(|()| state.as_slice()),

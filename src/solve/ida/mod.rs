@@ -3,7 +3,7 @@
 //!
 //! IDA integrates the formulation's residual form
 //! ([`Formulation::residual_form`](crate::formulation::Formulation::residual_form); the DAE:
-//! λ as algebraic unknowns, [`crate::formulation::residual_dae`]) with the analytic iteration
+//! λ as algebraic unknowns, [`crate::formulation::dae::residual`]) with the analytic iteration
 //! matrix and IDA's dense direct solver; other formulations as Ẏ − f(t, Y)
 //! ([`OdeResidual`]). All `unsafe` code is in `ffi` (private), the one wrapper around
 //! `sundials-sys`.

@@ -88,12 +88,12 @@
 //! 3. K. E. Brenan, S. L. Campbell, L. R. Petzold, *Numerical Solution of Initial-Value Problems
 //!    in Differential-Algebraic Equations*, SIAM, 1996, Ch. 5 (index and BDF).
 
-use super::contacts::ContactSites;
-use super::dae::Dae;
-use super::jacobian::increment;
-use super::residual::ResidualForm;
-use super::schur::{Schur, SchurSolver};
-use super::{Formulation, FormulationError};
+use super::Dae;
+use crate::formulation::contacts::ContactSites;
+use crate::formulation::jacobian::increment;
+use crate::formulation::residual::ResidualForm;
+use crate::formulation::schur::{Schur, SchurSolver};
+use crate::formulation::{Formulation, FormulationError};
 use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
 use crate::mechanics::planar::{perp, point_state};

@@ -22,8 +22,8 @@
 //! ratio of the coordinate partition's dependent block (≈ 1/cond) against the best block
 //! available: a block much worse than the best is one that should have been repartitioned.
 
-use super::FormulationError;
-use super::dae::{Dae, sin_cos_of};
+use super::{Dae, sin_cos_of};
+use crate::formulation::FormulationError;
 use crate::mechanics::constraints::ConstraintEval;
 use nalgebra::DMatrix;
 
@@ -124,7 +124,7 @@ fn dependent_rows(dae: &Dae, t: f64, q: &[f64], v: &[f64]) -> Option<String> {
     // Left singular vectors of Φ̃_q are the eigenvectors of Φ̃_q Φ̃_qᵀ (m × m); the SVD of
     // the transpose (n × m, n ≥ m for a formulation that assembled) gives them as its right
     // singular vectors, all m of them.
-    let svd = super::assembly::bounded_svd(jac.transpose(), false, true)?;
+    let svd = crate::formulation::assembly::bounded_svd(jac.transpose(), false, true)?;
     let v_t = svd.v_t?;
     let (mut k_min, mut s_min, mut s_max) = (0, f64::INFINITY, 0.0_f64);
     for (k, &s) in svd.singular_values.iter().enumerate() {
