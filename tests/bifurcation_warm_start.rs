@@ -11,23 +11,13 @@
 
 mod cli_common;
 
-use cli_common::linkdyn;
+use cli_common::{linkdyn, scratch};
 use linkdyn::formulation::ReducedLagrangian;
 use linkdyn::formulation::reduced_lagrangian::WarmState;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 const MODEL: &str = "models/farahan2016.toml";
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "linkdyn-bifurcation-warm-{name}-{}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
-    dir
-}
 
 fn s(p: &Path) -> String {
     p.display().to_string()
