@@ -104,11 +104,13 @@ class Bifurcation:
     """A bifurcation diagram (``linkdyn bifurcation``): one section of the observed column per
     parameter value.
 
-    Rows (the command's ``F.csv``, ``index,<param>,turn,<observe>``, revs − transient rows per
-    point, in index order): ``index``, ``parameter``, ``turn``, ``value``. Points (its
-    ``F.verdicts.csv``, ``index,<param>,verdict,k,message``): ``point_index``,
-    ``point_parameter``, ``verdict``, ``k``, ``message``. ``value.reshape(len(point_index),
-    -1)`` is one row per point. A point that failed (its model, simulation or integration) has
+    Rows (the command's ``F.csv``, ``index,<param>,turn,<observe>``, in index order; with
+    ``direction="both"`` the up branch, then the down branch): ``index``, ``parameter``,
+    ``turn``, ``value``, ``direction``. Points (its ``F.verdicts.csv``,
+    ``index,<param>,verdict,k,message`` and with ``settle``/``warm_start``
+    ``transient_turns,start``): ``point_index``, ``point_parameter``, ``verdict``, ``k``,
+    ``message``, ``point_direction``, ``transient_turns``, ``start``. Without ``settle``,
+    ``value.reshape(len(point_index), -1)`` is one row per point. A point that failed (its model, simulation or integration) has
     NaN values, the verdict ``"failed"`` and its error in ``message``; ``failures`` maps its
     index to that message.
     """
@@ -125,6 +127,9 @@ class Bifurcation:
     turn: IntArray
     #: Observed value of each row (the column's unit).
     value: FloatArray
+    #: Branch of each row of a warm-started sweep (``"up"`` or ``"down"``; ``""`` for
+    #: independent starts).
+    direction: List[str]
     #: Index of each point that ran, ascending, int64.
     point_index: IntArray
     #: Parameter value of each point.
@@ -136,6 +141,14 @@ class Bifurcation:
     k: IntArray
     #: Error message of each point (``""`` unless ``"failed"``).
     message: List[str]
+    #: Branch of each point (as ``direction``).
+    point_direction: List[str]
+    #: Transient turns each point discarded (``transient`` unless ``settle=True`` ended it
+    #: sooner), int64.
+    transient_turns: IntArray
+    #: How each point started: ``"warm"`` (from the point before it) or ``"cold"`` (from the
+    #: model's initial state).
+    start: List[str]
     #: The provenance of the command's files (settings include the sweep's).
     provenance: Dict[str, Any] = field(compare=False)
 

@@ -154,6 +154,11 @@ class Model:
         threads: Optional[int] = None,
         shard: Optional[str] = None,
         progress: Union[bool, None, Callable[[int, int], Any]] = True,
+        settle: bool = False,
+        transient_min: Optional[int] = None,
+        warm_start: bool = False,
+        chunks: Optional[int] = None,
+        direction: Optional[str] = None,
         dt: float = 1e-4,
         formulation: str = "dae",
         method: str = "dop853",
@@ -179,6 +184,16 @@ class Model:
         verdict ``"failed"`` with the error in ``message`` (``failures`` maps index → message),
         and a ``RuntimeWarning`` names the failed points. Bad input (including a ``to`` the
         model refuses) raises before any point runs.
+
+        ``settle=True`` ends each point's transient once its section has settled (after at
+        least ``transient_min`` turns, default 5, and at most ``transient``; the turns used in
+        ``transient_turns``). ``warm_start=True`` (``formulation="reduced"``) starts each point
+        from the state the point before it ended in: the grid is split into ``chunks``
+        contiguous chunks (default one per 25 points, at most 8), each swept in ``direction``
+        (``"up"``, ``"down"`` or ``"both"``: two branches, which show coexisting attractors
+        and hysteresis; ``direction``/``point_direction`` tell the rows apart). The command
+        line's ``--settle``, ``--transient-min``, ``--warm-start``, ``--chunks`` and
+        ``--direction``, with the same points.
 
         The model file must be unchanged since ``load`` (each point reads it again; a changed
         file is refused) and reachable by the path given to ``load`` from the current

@@ -306,10 +306,18 @@ impl PyModel {
     /// failed points. Bad input (including a `to` the model refuses) raises before any point
     /// runs. Returns a `linkdyn.Bifurcation` (rows in index order).
     ///
+    /// `settle=True` ends each point's transient once its section has settled (after at least
+    /// `transient_min` turns, default 5, and at most `transient`); `warm_start=True` (reduced
+    /// formulation) starts each point from the state the point before it ended in, the grid
+    /// split into `chunks` contiguous chunks swept in `direction` (`"up"`, `"down"` or
+    /// `"both"`): the command line's `--settle`, `--transient-min`, `--warm-start`, `--chunks`
+    /// and `--direction`, with the same points.
+    ///
     /// The model file must be unchanged since `load` and reachable by the path given to it.
     #[pyo3(signature = (param, observe, *, from_ = None, to = None, steps = None, values = None,
         revs = None, transient = 100, phase = 0.0, threads = None, shard = None,
-        progress = Progress::Flag(true), **solve))]
+        progress = Progress::Flag(true), settle = false, transient_min = None,
+        warm_start = false, chunks = None, direction = None, **solve))]
     #[allow(clippy::too_many_arguments)]
     fn bifurcation<'py>(
         &self,
@@ -326,6 +334,11 @@ impl PyModel {
         threads: Option<i64>,
         shard: Option<String>,
         progress: Progress,
+        settle: bool,
+        transient_min: Option<i64>,
+        warm_start: bool,
+        chunks: Option<i64>,
+        direction: Option<String>,
         solve: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let solve = Solve::from_kwargs("bifurcation", solve)?;
@@ -341,6 +354,11 @@ impl PyModel {
             phase,
             threads,
             shard,
+            settle,
+            transient_min,
+            warm_start,
+            chunks,
+            direction,
         };
         sweep::bifurcation(py, &self.model, &self.path, &solve, args, progress)
     }

@@ -19,11 +19,13 @@ use crate::analyses::{floats, ints, provenance, record};
 use crate::errors::{self, Failed};
 use crate::settings::{Solve, whole_transient, whole_turns};
 use linkdyn::Error;
-use linkdyn::analysis::{self, AnalysisError, ParameterGrid, PeriodVerdict, Shard, SweepPoint};
+use linkdyn::analysis::{
+    self, AnalysisError, Chunk, Direction, ParameterGrid, PeriodVerdict, Shard, SweepPoint,
+};
 use linkdyn::model::Model;
 use linkdyn::output::format_number;
 use linkdyn::simulation::Simulation;
-use linkdyn::simulation::analyses::{SectionSpec, Sweep, SweepResult};
+use linkdyn::simulation::analyses::{SectionSpec, Sweep, SweepMode, SweepModeRequest, SweepResult};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict};
 use std::path::Path;
@@ -55,6 +57,11 @@ pub struct SweepArgs {
     pub phase: f64,
     pub threads: Option<i64>,
     pub shard: Option<String>,
+    pub settle: bool,
+    pub transient_min: Option<i64>,
+    pub warm_start: bool,
+    pub chunks: Option<i64>,
+    pub direction: Option<String>,
 }
 
 /// Settings by name, as on the command line's `#` provenance lines.
@@ -75,6 +82,24 @@ struct Plan {
     settings: Settings,
     provenance: linkdyn::output::Provenance,
     pool: rayon::ThreadPool,
+    /// Transient detection and warm starts.
+    mode: SweepMode,
+    /// The chunks of a warm-started sweep (every direction's), or none.
+    chunks: Option<Vec<Chunk>>,
+}
+
+/// One finished point: its section (or why it failed) and whether it started from the point
+/// before it.
+struct Outcome {
+    section: SweepResult,
+    warm: bool,
+}
+
+/// A whole number ≥ 0 given as `option`.
+fn whole(option: &'static str, value: i64) -> Result<usize, Failed> {
+    usize::try_from(value).map_err(|_| {
+        Error::settings(option, format!("expected a whole number ≥ 0, got {value}")).into()
+    })
 }
 
 impl SweepArgs {
@@ -154,6 +179,36 @@ impl SweepArgs {
         }
         let (grid, values, grid_settings) = self.grid()?;
         let options = solve.for_turns(turns as f64)?;
+        let directions = match self.direction.as_deref() {
+            None => None,
+            Some("up") => Some(vec![Direction::Up]),
+            Some("down") => Some(vec![Direction::Down]),
+            Some("both") => Some(vec![Direction::Up, Direction::Down]),
+            Some(other) => {
+                return Err(Error::settings(
+                    "direction",
+                    format!("expected \"up\", \"down\" or \"both\", got \"{other}\""),
+                )
+                .into());
+            }
+        };
+        let mode = SweepMode::new(
+            &SweepModeRequest {
+                settle: self.settle,
+                transient_min: self
+                    .transient_min
+                    .map(|m| whole("transient_min", m))
+                    .transpose()?,
+                transient,
+                warm_start: self.warm_start,
+                chunks: self.chunks.map(|c| whole("chunks", c)).transpose()?,
+                directions,
+                sharded: self.shard.is_some(),
+                n_points: grid.len(),
+            },
+            options.formulation,
+        )?;
+        let chunks = mode.chunks(&grid)?;
         let base = Simulation::new(model, options.clone()).map_err(Failed::building)?;
         let pool = {
             let builder = rayon::ThreadPoolBuilder::new();
@@ -188,6 +243,15 @@ impl SweepArgs {
             ("phase_rad", format_number(self.phase)),
             ("observe", self.observe.clone()),
         ]);
+        // As the command line's files: only the new modes add lines.
+        if let Some(s) = mode.settle {
+            settings.push(("settle_min_revs", s.min_transient.to_string()));
+        }
+        if let Some((n, directions)) = &mode.warm {
+            settings.push(("warm_start_chunks", n.to_string()));
+            let names: Vec<String> = directions.iter().map(ToString::to_string).collect();
+            settings.push(("direction", names.join(",")));
+        }
         let plan = Plan {
             turns,
             transient,
@@ -198,6 +262,8 @@ impl SweepArgs {
             settings,
             provenance: base.provenance(),
             pool,
+            mode,
+            chunks,
         };
         // The first point's model and simulation, checked now (as the command line does): a
         // bad `param` or value is reported before any work, naming the option.
@@ -272,26 +338,58 @@ pub fn bifurcation<'py>(
     let lock = || state.lock().unwrap_or_else(PoisonError::into_inner);
     let (joined, python_error) = std::thread::scope(|scope| {
         let worker = scope.spawn(|| {
-            let points = plan.pool.install(|| {
-                analysis::run_points(
+            let settle = plan.mode.settle;
+            let value_of = |i: usize| plan.values.get(i).copied().unwrap_or(f64::NAN);
+            let finished = || -> Result<(), AnalysisError> {
+                lock().done += 1;
+                changed.notify_all();
+                Ok(())
+            };
+            // After an interrupt, points not yet started are skipped.
+            let stopped = || stop.load(Ordering::Relaxed);
+            let points = plan.pool.install(|| match &plan.chunks {
+                None => analysis::run_points_until(
                     &plan.grid,
                     &plan.indices,
-                    |i, _| {
-                        // After an interrupt, points not yet started are skipped.
-                        if stop.load(Ordering::Relaxed) {
-                            return None;
-                        }
-                        plan.values.get(i).map(|&v| sweep.point(v))
+                    |i, _| Outcome {
+                        section: sweep
+                            .point_from(value_of(i), settle, None)
+                            .map(|r| r.section),
+                        warm: false,
                     },
-                    |p: &SweepPoint<Option<SweepResult>>| -> Result<(), AnalysisError> {
-                        let mut s = lock();
-                        if p.result.is_some() {
-                            s.done += 1;
-                        }
-                        changed.notify_all();
-                        Ok(())
-                    },
+                    |_| finished(),
+                    stopped,
                 )
+                .map(|points| points.into_iter().map(|p| (None, p)).collect::<Vec<_>>()),
+                Some(chunks) => analysis::run_chunks_until(
+                    &plan.grid,
+                    chunks,
+                    Vec::new(),
+                    |_, i, _, previous| match sweep.point_from(value_of(i), settle, previous) {
+                        Ok(r) => (
+                            Outcome {
+                                section: Ok(r.section),
+                                warm: r.warm,
+                            },
+                            r.end,
+                        ),
+                        Err(e) => (
+                            Outcome {
+                                section: Err(e),
+                                warm: false,
+                            },
+                            None,
+                        ),
+                    },
+                    |_, _| finished(),
+                    stopped,
+                )
+                .map(|points| {
+                    points
+                        .into_iter()
+                        .map(|(d, p)| (Some(d), p))
+                        .collect::<Vec<_>>()
+                }),
             });
             lock().finished = true;
             changed.notify_all();
@@ -343,8 +441,8 @@ pub fn bifurcation<'py>(
     let record = build(py, &a, &plan, &points)?;
     let failed: Vec<String> = points
         .iter()
-        .filter_map(|p| match &p.result {
-            Some(Err(e)) => Some(format!(
+        .filter_map(|(_, p)| match &p.result.section {
+            Err(e) => Some(format!(
                 "point {} ({} = {}) failed: {}",
                 p.index,
                 a.param,
@@ -372,20 +470,23 @@ pub fn bifurcation<'py>(
     Ok(record)
 }
 
-/// The record of a finished sweep: its rows and its verdicts, in index order.
+/// The record of a finished sweep: its rows and its verdicts, in index order (with both
+/// directions of a warm-started sweep: the up branch, then the down branch).
 fn build<'py>(
     py: Python<'py>,
     a: &SweepArgs,
     plan: &Plan,
-    points: &[SweepPoint<Option<SweepResult>>],
+    points: &[(Option<Direction>, SweepPoint<Outcome>)],
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (mut index, mut parameter, mut turn, mut value) = (vec![], vec![], vec![], vec![]);
+    let (mut index, mut parameter, mut turn, mut value, mut direction) =
+        (vec![], vec![], vec![], vec![], vec![]);
     let (mut point_index, mut point_parameter, mut verdict, mut k, mut message) =
         (vec![], vec![], vec![], vec![], vec![]);
-    for p in points {
-        let Some(result) = &p.result else { continue };
+    let (mut point_direction, mut transient_turns, mut start) = (vec![], vec![], vec![]);
+    for (d, p) in points {
         let v = plan.values.get(p.index).copied().unwrap_or(p.parameter);
-        let (name, period, text) = match result {
+        let d = d.map_or(String::new(), |d| d.to_string());
+        let (name, period, text, transient) = match &p.result.section {
             Ok(s) => {
                 for (t, point) in s.turns.iter().zip(&s.section.points) {
                     for x in point {
@@ -393,6 +494,7 @@ fn build<'py>(
                         parameter.push(v);
                         turn.push(*t);
                         value.push(*x);
+                        direction.push(d.clone());
                     }
                 }
                 let (name, period) = match &s.period.verdict {
@@ -400,7 +502,8 @@ fn build<'py>(
                     PeriodVerdict::NoPeriod { .. } => ("no_period", 0),
                     PeriodVerdict::NotSettled { .. } => ("not_settled", 0),
                 };
-                (name, period, String::new())
+                let used = s.turns.first().copied().unwrap_or(plan.transient);
+                (name, period, String::new(), used)
             }
             // The command line's NaN rows: one per recorded turn.
             Err(e) => {
@@ -409,8 +512,9 @@ fn build<'py>(
                     parameter.push(v);
                     turn.push(t);
                     value.push(f64::NAN);
+                    direction.push(d.clone());
                 }
-                ("failed", 0, errors::message(e))
+                ("failed", 0, errors::message(e), plan.transient)
             }
         };
         point_index.push(p.index);
@@ -418,6 +522,9 @@ fn build<'py>(
         verdict.push(name);
         k.push(period);
         message.push(text);
+        point_direction.push(d);
+        transient_turns.push(transient);
+        start.push(if p.result.warm { "warm" } else { "cold" });
     }
     let fields = PyDict::new(py);
     fields.set_item("parameter_name", &a.param)?;
@@ -426,11 +533,15 @@ fn build<'py>(
     fields.set_item("parameter", floats(py, parameter))?;
     fields.set_item("turn", ints(py, &turn))?;
     fields.set_item("value", floats(py, value))?;
+    fields.set_item("direction", direction)?;
     fields.set_item("point_index", ints(py, &point_index))?;
     fields.set_item("point_parameter", floats(py, point_parameter))?;
     fields.set_item("verdict", verdict)?;
     fields.set_item("k", ints(py, &k))?;
     fields.set_item("message", message)?;
+    fields.set_item("point_direction", point_direction)?;
+    fields.set_item("transient_turns", ints(py, &transient_turns))?;
+    fields.set_item("start", start)?;
     fields.set_item(
         "provenance",
         provenance(py, plan.provenance.clone(), &plan.settings)?,

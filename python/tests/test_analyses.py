@@ -272,3 +272,59 @@ def test_bifurcation_shapes_values_and_shards():
         df = b.to_pandas()
         assert list(df.columns) == ["index", "joints.B.clearance", "turn", "coupler.phi"]
     assert re.match(r"<linkdyn.Bifurcation: 4 points of joints.B.clearance, 16 rows", repr(b))
+
+
+WARM_ARGS = ["--param", "joints.B.clearance", "--from", "0.0001", "--to", "0.0003",
+             "--steps", "5", "--revs", "16", "--transient", "12", "--observe", "coupler.phi",
+             "--formulation", "reduced", "--method", "radau5", "--rtol", "1e-6", "--atol",
+             "1e-9", "--settle", "--transient-min", "3", "--warm-start", "--chunks", "2",
+             *FAST_SET]
+WARM_KWARGS = dict(from_=0.0001, to=0.0003, steps=5, revs=16, transient=12,
+                   formulation="reduced", method="radau5", rtol=1e-6, atol=1e-9,
+                   settle=True, transient_min=3, warm_start=True, chunks=2, progress=False)
+
+
+@pytest.mark.parametrize("direction", ["up", "both"])
+def test_warm_started_settled_bifurcation_is_the_cli_s(cli, tmp_path, direction):
+    """The fast Fig. 6a settings (docs/sweeps.md) from Python: the same points, the same
+    transient turns and starts as `linkdyn bifurcation --settle --warm-start`, each branch."""
+    out, _ = run_cli(cli, tmp_path, "bifurcation", *WARM_ARGS, "--direction", direction)
+    b = linkdyn.load(MODEL, set=FAST).bifurcation(
+        **BIFURCATION, direction=direction, **WARM_KWARGS)
+    branches = ["up", "down"] if direction == "both" else ["up"]
+    assert sorted(set(b.direction)) == sorted(branches)
+    for branch in branches:
+        path = out.with_suffix(f".{branch}.csv") if direction == "both" else out
+        lines, names, csv = read(path)
+        rows = np.array([d == branch for d in b.direction])
+        assert_same(csv["index"], b.index[rows], f"{branch} index")
+        assert_same(csv["turn"], b.turn[rows], f"{branch} turn")
+        assert_same(csv["coupler.phi"], b.value[rows], f"{branch} value")
+        # The same settings; a branch file names its own direction, the record both.
+        settings = provenance_lines(b.provenance)
+        assert f"direction = {','.join(branches)}" in settings
+        assert without_version(lines) == [
+            f"direction = {branch}" if line.startswith("direction = ") else line
+            for line in settings]
+        _, vnames, verdicts = read(path.with_suffix(".verdicts.csv"))
+        points = [d == branch for d in b.point_direction]
+        assert vnames[4:6] == ["transient_turns", "start"]
+        assert_same(verdicts["index"], b.point_index[points], f"{branch} point index")
+        assert verdicts["verdict"] == [v for v, p in zip(b.verdict, points) if p]
+        assert_same(verdicts["transient_turns"], b.transient_turns[points], f"{branch} turns")
+        assert verdicts["start"] == [s for s, p in zip(b.start, points) if p]
+    # Settled early somewhere (period one here), never before transient_min.
+    assert 3 <= b.transient_turns.min() and b.transient_turns.max() <= 12
+    assert b.transient_turns.min() < 12
+    # Each chunk's first point starts cold, the others warm.
+    assert b.start.count("cold") == 2 * len(branches)
+
+
+def test_warm_start_needs_the_reduced_formulation():
+    with pytest.raises(linkdyn.SettingsError, match="needs `formulation` reduced"):
+        linkdyn.load(MODEL).bifurcation(**BIFURCATION, from_=1e-4, to=3e-4, steps=1, revs=3,
+                                        transient=1, warm_start=True, progress=False)
+    with pytest.raises(linkdyn.SettingsError, match="direction"):
+        linkdyn.load(MODEL).bifurcation(**BIFURCATION, from_=1e-4, to=3e-4, steps=1, revs=3,
+                                        transient=1, formulation="reduced", warm_start=True,
+                                        direction="sideways", progress=False)

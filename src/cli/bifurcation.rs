@@ -42,8 +42,10 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use linkdyn::analysis::{self, Direction, ParameterGrid, PeriodVerdict, Shard, SweepPoint};
 use linkdyn::output::{AtomicFile, OutputLock, check_output_file, format_number};
-use linkdyn::simulation::analyses::{ModelSection, SectionSpec, Settle, Sweep};
-use linkdyn::simulation::{EndTime, FormulationKind, Simulation, SimulationOptions, escape_line};
+use linkdyn::simulation::analyses::{
+    ModelSection, SectionSpec, Sweep, SweepMode, SweepModeRequest,
+};
+use linkdyn::simulation::{EndTime, Simulation, SimulationOptions, escape_line};
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs::{File, OpenOptions};
 use std::io::{IsTerminal, Write};
@@ -130,14 +132,6 @@ fn parse_direction(s: &str) -> Result<Directions, String> {
         _ => Err(format!("expected up, down or both, got \"{s}\"")),
     }
 }
-
-/// Chunks of a warm-started sweep unless --chunks says otherwise: one per this many points
-/// (a cold start costs a few turns more than a warm one, so short chunks waste little)…
-const POINTS_PER_CHUNK: usize = 25;
-/// … and at most this many (the Fig. 6a grid of 200 points: 8).
-const MAX_DEFAULT_CHUNKS: usize = 8;
-/// Fewest transient turns with --settle unless --transient-min says otherwise.
-const DEFAULT_TRANSIENT_MIN: usize = 5;
 
 fn parse_shard(s: &str) -> Result<Shard, String> {
     s.parse()
@@ -236,90 +230,6 @@ const FAILED: &str = "failed";
 /// Failed points named one by one in the closing message; the rest are counted.
 const FAILURES_LISTED: usize = 5;
 
-/// What a sweep does beyond independent points: transient detection and warm starts.
-struct Mode {
-    settle: Option<Settle>,
-    /// Chunks and directions of a warm-started sweep.
-    warm: Option<(usize, Vec<Direction>)>,
-}
-
-impl Mode {
-    /// The verdicts carry the transient turns and the start (`transient_turns,start`).
-    fn extended(&self) -> bool {
-        self.settle.is_some() || self.warm.is_some()
-    }
-}
-
-/// Checks the options of transient detection and warm starts against each other and the
-/// formulation (before any work).
-fn mode(
-    args: &BifurcationArgs,
-    options: &SimulationOptions,
-    n_points: usize,
-) -> Result<Mode, Failure> {
-    if !args.settle && args.transient_min.is_some() {
-        return Err(bad(
-            "transient_min",
-            "sets the fewest transient turns of `settle`; add --settle or leave it out",
-        ));
-    }
-    let settle = if args.settle {
-        let min = args.transient_min.unwrap_or(DEFAULT_TRANSIENT_MIN);
-        if min > args.transient {
-            return Err(bad(
-                "transient_min",
-                format!(
-                    "expected at most the {} turns of `transient` (the most a transient may take), got {min}",
-                    args.transient
-                ),
-            ));
-        }
-        Some(Settle { min_transient: min })
-    } else {
-        None
-    };
-    if !args.warm_start {
-        for (given, option) in [
-            (args.chunks.is_some(), "chunks"),
-            (args.direction.is_some(), "direction"),
-        ] {
-            if given {
-                return Err(bad(
-                    option,
-                    "applies to a warm-started sweep only; add --warm-start or leave it out",
-                ));
-            }
-        }
-        return Ok(Mode { settle, warm: None });
-    }
-    if args.shard.is_some() {
-        return Err(bad(
-            "shard",
-            "a warm-started sweep (`warm-start`) cannot be sharded: each point starts from the one before it in its chunk, and a shard takes every n-th point; split it with --chunks and --threads instead",
-        ));
-    }
-    if options.formulation != FormulationKind::Reduced {
-        return Err(bad(
-            "warm_start",
-            format!(
-                "needs --formulation reduced (only the reduced model can start from another point's state), got --formulation {}",
-                options.formulation
-            ),
-        ));
-    }
-    let chunks = args
-        .chunks
-        .unwrap_or((n_points / POINTS_PER_CHUNK).clamp(1, MAX_DEFAULT_CHUNKS));
-    let directions = match args.direction.unwrap_or(Directions::One(Direction::Up)) {
-        Directions::One(d) => vec![d],
-        Directions::Both => vec![Direction::Up, Direction::Down],
-    };
-    Ok(Mode {
-        settle,
-        warm: Some((chunks, directions)),
-    })
-}
-
 /// One result file pair: `F.csv` and `F.verdicts.csv` (per direction with `--direction both`).
 struct Branch {
     direction: Option<Direction>,
@@ -388,17 +298,23 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         end: EndTime::DriverTurns(turns as f64),
         ..args.model.options()?
     };
-    let mode = mode(args, &options, grid.len())?;
-    let chunks = match &mode.warm {
-        Some((n, directions)) => {
-            let mut all = Vec::new();
-            for d in directions {
-                all.extend(analysis::continuation_chunks(&grid, *n, *d)?);
-            }
-            Some(all)
-        }
-        None => None,
-    };
+    let mode = SweepMode::new(
+        &SweepModeRequest {
+            settle: args.settle,
+            transient_min: args.transient_min,
+            transient: args.transient,
+            warm_start: args.warm_start,
+            chunks: args.chunks,
+            directions: args.direction.map(|d| match d {
+                Directions::One(d) => vec![d],
+                Directions::Both => vec![Direction::Up, Direction::Down],
+            }),
+            sharded: args.shard.is_some(),
+            n_points: grid.len(),
+        },
+        options.formulation,
+    )?;
+    let chunks = mode.chunks(&grid)?;
     let base = Simulation::new(&base_model, options.clone())
         .map_err(|e| super::in_model(&args.model.model, e))?;
     let sweep = Sweep {

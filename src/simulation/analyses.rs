@@ -53,11 +53,11 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::{Built, EndTime, Simulation, SimulationOptions};
+use super::{Built, EndTime, FormulationKind, Simulation, SimulationOptions};
 use crate::analysis::{
-    self, AnalysisError, LyapunovEstimate, LyapunovOptions, ParameterGrid, PeriodAnalysis,
-    PeriodOptions, PeriodVerdict, PhasePortrait, PoincareSection, SectionOptions, Spectrum,
-    SpectrumOptions, SweepPoint,
+    self, AnalysisError, Chunk, Direction, LyapunovEstimate, LyapunovOptions, ParameterGrid,
+    PeriodAnalysis, PeriodOptions, PeriodVerdict, PhasePortrait, PoincareSection, SectionOptions,
+    Spectrum, SpectrumOptions, SweepPoint,
 };
 use crate::error::{Error, Result};
 use crate::formulation::reduced_lagrangian::WarmState;
@@ -81,6 +81,132 @@ pub const SETTLE_K_MAX: usize = 8;
 pub struct Settle {
     /// Fewest transient turns, whatever the points say.
     pub min_transient: usize,
+}
+
+/// Fewest transient turns with transient detection unless the caller says otherwise.
+pub const DEFAULT_TRANSIENT_MIN: usize = 5;
+/// Chunks of a warm-started sweep unless the caller says otherwise: one per this many points
+/// (a cold start costs a few turns more than a warm one, so short chunks waste little)…
+pub const POINTS_PER_CHUNK: usize = 25;
+/// … and at most this many (the Fig. 6a grid of 200 points: 8).
+pub const MAX_DEFAULT_CHUNKS: usize = 8;
+
+/// What a sweep asks for beyond independent points, as given (before [`SweepMode::new`]
+/// checks it).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct SweepModeRequest {
+    /// Transient detection (`settle`).
+    pub settle: bool,
+    /// Fewest transient turns with `settle` (`transient_min`).
+    pub transient_min: Option<usize>,
+    /// Most transient turns (`transient`).
+    pub transient: usize,
+    /// Warm starts (`warm_start`).
+    pub warm_start: bool,
+    /// Chunks of a warm-started sweep (`chunks`).
+    pub chunks: Option<usize>,
+    /// Branches of a warm-started sweep (`direction`: up, down, or both as `[Up, Down]`).
+    pub directions: Option<Vec<Direction>>,
+    /// Whether the sweep is a shard of a larger one (`shard`).
+    pub sharded: bool,
+    /// Points in the grid.
+    pub n_points: usize,
+}
+
+/// A checked sweep mode: transient detection and warm starts.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SweepMode {
+    /// Transient detection, if asked for.
+    pub settle: Option<Settle>,
+    /// Chunks and directions of a warm-started sweep, if asked for.
+    pub warm: Option<(usize, Vec<Direction>)>,
+}
+
+impl SweepMode {
+    /// Checks the options of transient detection and warm starts against each other and the
+    /// formulation (`formulation`), before any work; fills in the defaults.
+    ///
+    /// Errors: [`Error::Settings`] naming the option that cannot apply, and why.
+    pub fn new(request: &SweepModeRequest, formulation: FormulationKind) -> Result<SweepMode> {
+        let r = request;
+        if !r.settle && r.transient_min.is_some() {
+            return Err(Error::settings(
+                "transient_min",
+                "sets the fewest transient turns of `settle`; add `settle` or leave it out",
+            ));
+        }
+        let settle = if r.settle {
+            let min = r.transient_min.unwrap_or(DEFAULT_TRANSIENT_MIN);
+            if min > r.transient {
+                return Err(Error::settings(
+                    "transient_min",
+                    format!(
+                        "expected at most the {} turns of `transient` (the most a transient may take), got {min}",
+                        r.transient
+                    ),
+                ));
+            }
+            Some(Settle { min_transient: min })
+        } else {
+            None
+        };
+        if !r.warm_start {
+            for (given, option) in [
+                (r.chunks.is_some(), "chunks"),
+                (r.directions.is_some(), "direction"),
+            ] {
+                if given {
+                    return Err(Error::settings(
+                        option,
+                        "applies to a warm-started sweep only; add `warm_start` or leave it out",
+                    ));
+                }
+            }
+            return Ok(SweepMode { settle, warm: None });
+        }
+        if r.sharded {
+            return Err(Error::settings(
+                "shard",
+                "a warm-started sweep (`warm_start`) cannot be sharded: each point starts from the one before it in its chunk, and a shard takes every n-th point; split it with `chunks` and `threads` instead",
+            ));
+        }
+        if formulation != FormulationKind::Reduced {
+            return Err(Error::settings(
+                "warm_start",
+                format!(
+                    "needs `formulation` reduced (only the reduced model can start from another point's state), got `formulation` {formulation}"
+                ),
+            ));
+        }
+        let chunks = r
+            .chunks
+            .unwrap_or((r.n_points / POINTS_PER_CHUNK).clamp(1, MAX_DEFAULT_CHUNKS));
+        let directions = r.directions.clone().unwrap_or_else(|| vec![Direction::Up]);
+        Ok(SweepMode {
+            settle,
+            warm: Some((chunks, directions)),
+        })
+    }
+
+    /// Whether the verdicts carry the transient turns and the start (`transient_turns,start`).
+    pub fn extended(&self) -> bool {
+        self.settle.is_some() || self.warm.is_some()
+    }
+
+    /// The chunks of a warm-started sweep over `grid`, every direction's (none without warm
+    /// starts).
+    ///
+    /// Errors: more chunks than points.
+    pub fn chunks(&self, grid: &ParameterGrid) -> Result<Option<Vec<Chunk>>> {
+        let Some((n, directions)) = &self.warm else {
+            return Ok(None);
+        };
+        let mut all = Vec::new();
+        for d in directions {
+            all.extend(analysis::continuation_chunks(grid, *n, *d)?);
+        }
+        Ok(Some(all))
+    }
 }
 
 /// A section of [`poincare_from`]: the section, how it started, and where it ended.
