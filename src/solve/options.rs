@@ -185,12 +185,27 @@ pub(crate) fn implicit_methods() -> String {
 }
 
 /// Settings of the explicit Runge–Kutta pairs only (ignored by other methods).
-#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ExplicitRkSettings {
     /// Exponent β of Hairer's PI step-size controller; `None` uses
     /// [`Method::default_beta`] (0.04 for DOPRI5, 0 for DOP853). β = 0 is the classical
     /// (I-only) controller.
     pub beta: Option<f64>,
+    /// Whether an otherwise accepted step across a sign change of an event function is retried
+    /// ending just past the crossing (default `true`): the error estimate of a step across a
+    /// change of the force law (an impact, a kink of the friction law) does not see the
+    /// change, and the state at the event is read from that step's dense output
+    /// (docs/numerics.md, "Error proportional to tolerance").
+    pub cut_at_events: bool,
+}
+
+impl Default for ExplicitRkSettings {
+    fn default() -> Self {
+        Self {
+            beta: None,
+            cut_at_events: true,
+        }
+    }
 }
 
 /// Options of a run: those shared by every integrator, plus per-method settings
@@ -256,6 +271,7 @@ impl Default for SolverOptions {
     /// | `max_wall` | `None` (no limit) |
     /// | `fixed_step` | `None` (adaptive) |
     /// | `explicit_rk.beta` | `None` (0.04 for DOPRI5, 0 for DOP853) |
+    /// | `explicit_rk.cut_at_events` | `true` |
     fn default() -> Self {
         Self {
             method: Method::Dop853,
@@ -380,6 +396,14 @@ impl SolverOptions {
     #[must_use]
     pub fn beta(mut self, beta: f64) -> Self {
         self.explicit_rk.beta = Some(beta);
+        self
+    }
+
+    /// Whether the explicit pairs end a step just past an event crossing
+    /// ([`ExplicitRkSettings::cut_at_events`]).
+    #[must_use]
+    pub fn explicit_cut_at_events(mut self, on: bool) -> Self {
+        self.explicit_rk.cut_at_events = on;
         self
     }
 
