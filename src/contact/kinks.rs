@@ -10,9 +10,12 @@
 //! just past the kink. The response is [`EventResponse::Continue`](crate::formulation::EventResponse::Continue):
 //! nothing in the state changes.
 //!
-//! Shared by the reduced formulation (events 1–4 of its one joint) and the DAE (four per
-//! clearance joint after the δ events), each switched on for Radau5 only by
-//! [`crate::simulation::Simulation`].
+//! The explicit pairs cut their steps at them the same way (`ExplicitRkSettings::cut_at_events`).
+//!
+//! Shared by the reduced formulation (events 1–4 of its one joint), the DAE (four per
+//! clearance joint after the δ events) and the generalised formulation (the DAE's, at the
+//! projected state), each switched on by [`crate::simulation::Simulation`] for Radau5, and for
+//! DOPRI5 and DOP853 at rtol ≤ [`crate::simulation::EXPLICIT_CUT_MAX_RTOL`].
 //!
 //! The four functions are v_t − v0, v_t + v0, v_t − v1, v_t + v1 (each crossed once when v_t
 //! sweeps through the ramp; |v_t| − v0 would miss a pass through zero inside one step). They are

@@ -269,7 +269,8 @@ impl Dae {
     /// With `on`, the kinks of each clearance joint's friction law (slip speeds ±v0, ±v1) are
     /// event functions after the δ events while that joint's contact is open, so that Radau5
     /// ends its steps at them (`contact/kinks.rs`); off (the default), the δ are the only
-    /// event functions. [`crate::simulation::Simulation`] switches them on for Radau5 only.
+    /// event functions. [`crate::simulation::Simulation`] switches them on for Radau5, and for
+    /// the explicit pairs where they cut their steps at events.
     #[must_use]
     pub fn friction_kink_events(mut self, on: bool) -> Self {
         self.contacts.set_kink_events(on);

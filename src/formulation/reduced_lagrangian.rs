@@ -466,10 +466,11 @@ impl ReducedLagrangian {
     }
 
     /// With `on` (the default), the kinks of the friction law (slip speeds ±v0, ±v1) are event
-    /// functions 1–4 while in contact, so that Radau5 ends its steps at them
-    /// (`contact/kinks.rs`); off, δ is the only event function. A model without
+    /// functions 1–4 while in contact, so that Radau5 and the explicit pairs end their steps at
+    /// them (`contact/kinks.rs`); off, δ is the only event function. A model without
     /// friction has none either way. [`crate::simulation::Simulation`] switches them off for
-    /// every method but Radau5 (their steps do not change at events).
+    /// IDA (its steps do not change at events) and for the explicit pairs at rtol above
+    /// [`crate::simulation::EXPLICIT_CUT_MAX_RTOL`].
     #[must_use]
     pub fn friction_kink_events(mut self, on: bool) -> Self {
         self.kink_events = if on {

@@ -59,6 +59,32 @@ enum Built {
     Generalized(Box<Generalized>),
 }
 
+/// Loosest rtol at which the explicit pairs cut their steps at events and have the friction
+/// kinks as events. Below it the cuts bring their error to 0.4–21× rtol on farahan2016
+/// (from up to 900×; docs/numerics.md, "Error proportional to tolerance"). Above it the run is
+/// chaotic anyway (wrong impact counts with or without the cuts), and a different trajectory
+/// put a DOP853 sample 1.03 mm deep into the bearing at rtol 1e-3
+/// (`tests/loose_tolerance_dense_output.rs`).
+pub const EXPLICIT_CUT_MAX_RTOL: f64 = 1e-5;
+
+/// Whether the friction kinks are event functions for `solver` (the method's
+/// [`MethodInfo::friction_kink_events`](solve::MethodInfo::friction_kink_events)), and switches
+/// the explicit pairs' cut at events off where it does not help: they cut their steps at events
+/// (`ExplicitRkSettings::cut_at_events`) only at rtol ≤ [`EXPLICIT_CUT_MAX_RTOL`]; without the
+/// cut the kinks would not change their steps, only add located events.
+fn kink_events(solver: &mut solve::SolverOptions) -> bool {
+    match solver.method.info().friction_kink_events {
+        solve::KinkEvents::Always => true,
+        solve::KinkEvents::WhereStepsAreCut => {
+            if solver.rtol > EXPLICIT_CUT_MAX_RTOL {
+                solver.explicit_rk.cut_at_events = false;
+            }
+            solver.explicit_rk.cut_at_events
+        }
+        solve::KinkEvents::Never => false,
+    }
+}
+
 /// A model with validated settings, ready to run any number of times. `Send` but not `Sync`
 /// (the DAE keeps scratch space in a `RefCell`): give each thread its own clone.
 #[derive(Debug, Clone)]
@@ -86,10 +112,8 @@ impl Simulation {
             // Checked again with the output size below; first, so that it is reported first.
             check_sampling(t_end, options.dt, 0)?;
         }
-        let solver = options::check_solver(&options.solver)?;
-        // The friction kinks are event functions where the method needs them
-        // (`MethodInfo::friction_kink_events`).
-        let kinks = solver.method.info().friction_kink_events;
+        let mut solver = options::check_solver(&options.solver)?;
+        let kinks = kink_events(&mut solver);
         let formulation = match options.formulation {
             FormulationKind::Dae => {
                 let dae_options = DaeOptions {
@@ -110,13 +134,13 @@ impl Simulation {
                 Built::Reduced(Box::new(reduced))
             }
             FormulationKind::Generalized => {
-                // No kink events: its events are the DAE's at a projected state, and its
-                // `apply_event` stores that projection into y, also for a kink.
                 let dae_options = DaeOptions {
                     energy: options.energy,
                     ..DaeOptions::default()
                 };
-                Built::Generalized(Box::new(Generalized::new(model, &dae_options)?))
+                Built::Generalized(Box::new(
+                    Generalized::new(model, &dae_options)?.friction_kink_events(kinks),
+                ))
             }
         };
         let names = match &formulation {

@@ -4,6 +4,7 @@
 use super::impacts::{ContactPoint, ContactProbe};
 use super::summary::SummaryBuilder;
 use super::*;
+use crate::contact::kinks;
 use crate::formulation::Crossing;
 use crate::solve::{Method, Recorder, SolveError};
 
@@ -75,18 +76,22 @@ fn bad_settings_are_refused_naming_the_option() {
     );
 }
 
-fn direct_recorder(model: &Model, t_end: f64, dt: f64, energy: bool) -> Recorder {
+/// The samples of a direct integration, and the largest |Φ| over its accepted step ends.
+fn direct_recorder(model: &Model, t_end: f64, dt: f64, energy: bool) -> (Recorder, f64) {
     let options = DaeOptions {
         energy,
         ..DaeOptions::default()
     };
-    let mut dae = Dae::new(model, &options).unwrap_or_else(|e| panic!("{e}"));
+    // The simulation's default solver (DOP853, rtol 1e-8) has the friction kinks as events.
+    let mut dae = Dae::new(model, &options)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .friction_kink_events(true);
     let y0 = dae.initial_state();
     let mut rec = Recorder::new(&dae);
     let opts = SolverOptions::default();
     solve::integrate(&mut dae, 0.0, &y0, t_end, dt, &opts, &mut rec)
         .unwrap_or_else(|e| panic!("{e}"));
-    rec
+    (rec, dae.step_constraint_violation())
 }
 
 #[test]
@@ -103,7 +108,7 @@ fn run_to_memory_gives_the_numbers_of_a_direct_integration_and_the_same_summary(
     )
     .unwrap_or_else(|e| panic!("{e}"));
     let run = sim.run_to_memory().unwrap_or_else(|e| panic!("{e}"));
-    let rec = direct_recorder(&model, sim.t_end(), 1e-4, true);
+    let (rec, step_violation) = direct_recorder(&model, sim.t_end(), 1e-4, true);
     assert_eq!(run.names, rec.names);
     assert_eq!(run.t, rec.t, "sample times");
     assert_eq!(run.len(), sim.expected_samples());
@@ -121,12 +126,17 @@ fn run_to_memory_gives_the_numbers_of_a_direct_integration_and_the_same_summary(
     // The incremental summary against the batch computation over all samples.
     let s = &run.summary;
     assert_eq!(s.samples, rec.len());
-    assert_eq!(s.max_constraint_violation, rec.max_constraint_violation);
+    // Over the samples and the accepted step ends (a step end can exceed every sample).
+    assert_eq!(
+        s.max_constraint_violation,
+        rec.max_constraint_violation.max(step_violation)
+    );
     let b = &s.clearance_joints[0];
+    // Impacts: rising δ (event 0); events 1–4 are the friction kinks.
     let impacts: Vec<f64> = rec
         .events
         .iter()
-        .filter(|e| e.crossing == Crossing::Rising)
+        .filter(|e| e.index == 0 && e.crossing == Crossing::Rising)
         .map(|e| e.t)
         .collect();
     assert!(
@@ -225,34 +235,49 @@ fn simulations_and_trajectories_can_cross_threads() {
     send_sync::<RunSummary>();
 }
 
-/// The friction kinks of the reduced formulation and of the DAE are events with Radau5 (which
-/// ends its steps at them) and not with DOP853; the Generalized formulation has none. The
-/// impacts (event 0, the one clearance joint) and the summary's impact log do not depend on it.
+/// The friction kinks are events with Radau5 (which ends its steps at them) and with the
+/// explicit pairs at rtol ≤ [`EXPLICIT_CUT_MAX_RTOL`] (where they cut their steps at events),
+/// in every formulation; not with DOP853 at a looser rtol, whose cut is then off. The impacts
+/// (event 0, the one clearance joint) and the summary's impact log do not depend on it.
 #[test]
-fn friction_kink_events_only_with_radau5() {
+fn friction_kink_events_where_steps_are_cut_at_them() {
     let model = load("models/farahan2016.toml", &[]);
-    let run = |kind: FormulationKind, method: crate::solve::Method| {
+    let run = |kind: FormulationKind, method: crate::solve::Method, rtol: f64| {
         let solver = SolverOptions::default()
             .method(method)
-            .rtol(1e-8)
-            .atol(1e-11);
+            .rtol(rtol)
+            .atol(rtol * 1e-3);
         let options = SimulationOptions::default()
             .formulation(kind)
             .revs(0.25)
             .dt(1e-3)
             .solver(solver);
         let sim = Simulation::new(&model, options).unwrap_or_else(|e| panic!("{e}"));
-        sim.run_to_memory().unwrap_or_else(|e| panic!("{e}"))
+        let cut = sim.options().solver.explicit_rk.cut_at_events;
+        (sim.run_to_memory().unwrap_or_else(|e| panic!("{e}")), cut)
     };
-    let kinks = |t: &Trajectory| t.events.iter().filter(|e| e.index > 0).count();
+    // Events 1–4 are the one joint's kinks (the generalised formulation's repartition event
+    // comes after them).
+    let kinks = |t: &Trajectory| {
+        t.events
+            .iter()
+            .filter(|e| (1..=kinks::N_KINK_EVENTS).contains(&e.index))
+            .count()
+    };
     let impacts = |t: &Trajectory| t.summary.clearance_joints[0].impacts.len();
-    for kind in [FormulationKind::Reduced, FormulationKind::Dae] {
-        let (radau, dop) = (
-            run(kind, crate::solve::Method::Radau5),
-            run(kind, crate::solve::Method::Dop853),
-        );
+    for kind in FormulationKind::ALL {
+        let (radau, _) = run(kind, crate::solve::Method::Radau5, 1e-8);
+        let (dop, dop_cut) = run(kind, crate::solve::Method::Dop853, 1e-8);
+        let (loose, loose_cut) = run(kind, crate::solve::Method::Dop853, 1e-4);
         assert!(kinks(&radau) > 0, "{kind:?} Radau5: no kink events");
-        assert_eq!(kinks(&dop), 0, "{kind:?} DOP853: kink events");
+        assert!(
+            kinks(&dop) > 0 && dop_cut,
+            "{kind:?} DOP853 rtol 1e-8: no kink events"
+        );
+        assert!(
+            kinks(&loose) == 0 && !loose_cut,
+            "{kind:?} DOP853 rtol 1e-4: kink events or cuts"
+        );
         assert_eq!(impacts(&radau), impacts(&dop), "{kind:?}");
         assert_eq!(
             impacts(&radau),
@@ -264,14 +289,6 @@ fn friction_kink_events_only_with_radau5() {
             "{kind:?}"
         );
     }
-    let generalized = run(FormulationKind::Generalized, crate::solve::Method::Radau5);
-    // Its event 1 is the repartition event (the DAE's δ come first): no kink events after it.
-    let dae_events = |t: &Trajectory| t.events.iter().filter(|e| e.index > 1).count();
-    assert_eq!(
-        dae_events(&generalized),
-        0,
-        "Generalized Radau5: kink events"
-    );
 }
 
 /// A sink that hands everything to the simulation's own ([`Observed`]) and, for every step in

@@ -299,7 +299,14 @@ impl<F: Formulation> Stepper<'_, F> {
         if self.ev.refs.is_empty() {
             return;
         }
-        self.f.events(self.t, &self.y, &mut self.ev.g_hi);
+        // The method's values at its solution are this step end's unless the formulation
+        // corrected the step end (which then asks for a restart).
+        match self.integrator.step_end_events() {
+            Some(g) if !self.restart_before_next_step && g.len() == self.ev.g_hi.len() => {
+                self.ev.g_hi.copy_from_slice(g);
+            }
+            _ => self.f.events(self.t, &self.y, &mut self.ev.g_hi),
+        }
         self.ev.t_lo = self.t_old;
         self.ev.lo_is_event = false;
     }

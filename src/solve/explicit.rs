@@ -11,6 +11,15 @@
 //! non-stiff ones in between mark the problem as stiff ([`Integrator::stiffness_detected`]);
 //! the driver only uses this to word its message when a run stops making progress.
 //!
+//! **Cut at events** (`ExplicitRkSettings::cut_at_events`): an otherwise accepted step across
+//! a sign change of an event function (an impact, a kink of the friction law) is retried ending
+//! just past the crossing, found on the step's own dense output. The error estimate, made for a
+//! smooth right-hand side, does not see a change of the force law inside the step, and the
+//! driver reads the state at the event from that step's dense output; after the cut only a
+//! sliver of the step lies under the other law. As Radau5's cut (`radau5/core.rs`), with the
+//! same guards: no cut of a crossing in the first or last 1 % of the step, and after a retry
+//! that ends still short of the crossing the next attempt crosses uncut.
+//!
 //! # References
 //! 1. E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II*, 2nd ed., Springer,
 //!    1996, Sec. IV.2 (automatic stiffness detection).
@@ -33,6 +42,17 @@ const NON_STIFF_STEPS: u32 = 6;
 /// (Hairer's codes: every 1000th; more often here so that the no-progress rule, which looks at
 /// 1000 attempts, already knows).
 const STIFF_TEST_EVERY: u64 = 16;
+/// A step is cut at an event crossing only if the crossing lies at a fraction θ of the step in
+/// [`MIN_CUT`, `MAX_CUT`): near either end the other law holds on a sliver only, and near the
+/// start a cut would shrink the step to that sliver (Radau5's bounds, `radau5/core.rs`).
+const MIN_CUT: f64 = 0.01;
+/// See [`MIN_CUT`].
+const MAX_CUT: f64 = 0.99;
+/// Halvings of the bisection for the crossing on the dense output (2⁻⁴⁰·h).
+const CUT_HALVINGS: usize = 40;
+/// The retry ends past the crossing by this fraction of the way to it (the retry's own
+/// crossing moves by its error).
+const CUT_OVERSHOOT: f64 = 1.001;
 
 /// What distinguishes one explicit pair from another: tableau, error norm, dense output.
 pub(crate) trait Pair {
@@ -132,12 +152,41 @@ pub(crate) struct ExplicitRk<P> {
     non_stiff_steps: u32,
     stiff: bool,
     accepted: u64,
+    /// Cut steps at event crossings (see the module documentation).
+    cut_at_events: bool,
+    /// Event functions at the start of the next attempt (valid at `g_start_at`), at the end of
+    /// the current attempt (`g_end_fresh`), and at a bisection point.
+    g_start: Vec<f64>,
+    g_start_at: Option<f64>,
+    /// `g_start` holds g at the end of the step just accepted (for the driver).
+    g_start_is_step_end: bool,
+    g_end: Vec<f64>,
+    g_end_fresh: bool,
+    g_mid: Vec<f64>,
+    y_probe: Vec<f64>,
+    /// The current attempt is the retry of a cut.
+    cut_retry: bool,
+    /// The last accepted step was a cut retry that ended short of its crossing: the next
+    /// attempt crosses uncut (else it would be cut again near its start, and so on, h → 0).
+    cut_fell_short: bool,
+    /// The FSAL stage in `k`, and `dense`, already hold the current attempt's (from the cut
+    /// test).
+    trial_fsal: bool,
+    trial_dense: bool,
     pair: PhantomData<P>,
+}
+
+/// What the cut test found in an attempt.
+enum Cut {
+    /// Keep the attempt as it is.
+    Keep,
+    /// Retry with this step size (s).
+    Retry(f64),
 }
 
 impl<P: Pair> ExplicitRk<P> {
     /// An integrator for n states with error weights `weights` and PI exponent `beta`.
-    pub(crate) fn new(n: usize, weights: ErrorWeights, beta: f64) -> Self {
+    pub(crate) fn new(n: usize, weights: ErrorWeights, beta: f64, cut_at_events: bool) -> Self {
         Self {
             weights,
             f_start: vec![0.0; n],
@@ -156,8 +205,109 @@ impl<P: Pair> ExplicitRk<P> {
             non_stiff_steps: 0,
             stiff: false,
             accepted: 0,
+            cut_at_events,
+            g_start: Vec::new(),
+            g_start_at: None,
+            g_start_is_step_end: false,
+            g_end: Vec::new(),
+            g_end_fresh: false,
+            g_mid: Vec::new(),
+            y_probe: vec![0.0; n],
+            cut_retry: false,
+            cut_fell_short: false,
+            trial_fsal: false,
+            trial_dense: false,
             pair: PhantomData,
         }
+    }
+
+    /// Whether an event function changes sign between (t, y) and the attempt's end
+    /// (t_new, y_new); leaves the values in `g_start` and `g_end`.
+    fn crosses<F: Formulation + ?Sized>(&mut self, f: &F, trial: &Trial<'_>) -> bool {
+        let ne = f.n_events();
+        if ne == 0 {
+            return false;
+        }
+        for g in [&mut self.g_start, &mut self.g_end, &mut self.g_mid] {
+            g.resize(ne, 0.0);
+        }
+        // Event functions depend on (t, y) only, and (t, y) is the last accepted end unless
+        // the driver restarted the method (which forgets `g_start_at`).
+        if self.g_start_at != Some(trial.t) {
+            f.events(trial.t, trial.y, &mut self.g_start);
+            self.g_start_at = Some(trial.t);
+        }
+        f.events(trial.t_new, &self.y_new, &mut self.g_end);
+        self.g_end_fresh = true;
+        self.g_start
+            .iter()
+            .zip(&self.g_end)
+            .any(|(&a, &b)| crossed(a, b))
+    }
+
+    /// The cut test of an attempt that passed the error test: the step size that ends it just
+    /// past the earliest sign change of an event function, found by bisection on the attempt's
+    /// dense output (prepared here, and kept for the step if it is accepted after all).
+    fn event_cut<F: Formulation + ?Sized>(
+        &mut self,
+        f: &F,
+        trial: &Trial<'_>,
+        stats: &mut SolverStats,
+    ) -> Result<Cut, SolveError> {
+        if !self.crosses(f, trial) {
+            return Ok(Cut::Keep);
+        }
+        let mut fsal_evals = 0;
+        P::after_accept(f, trial.t_new, &self.y_new, &mut self.k, &mut fsal_evals)?;
+        stats.rhs_evals += fsal_evals;
+        self.trial_fsal = true;
+        let step = DenseInput {
+            t_old: trial.t,
+            h: trial.h,
+            y_old: trial.y,
+            y_new: &self.y_new,
+        };
+        match P::prepare_dense(
+            f,
+            &step,
+            &mut self.k,
+            &mut self.dense,
+            &mut self.y_stage,
+            stats,
+        ) {
+            Ok(()) => {}
+            // Extra stages deep in a contact wall (see `interpolate`): no dense output to cut
+            // on; the step stays as it is (its own dense output then falls back to Hermite).
+            Err(SolveError::Formulation { source, .. }) if source.is_recoverable() => {
+                return Ok(Cut::Keep);
+            }
+            Err(e) => return Err(e),
+        }
+        self.trial_dense = true;
+        let ne = self.g_start.len();
+        let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+        for _ in 0..CUT_HALVINGS {
+            let mid = 0.5 * (lo + hi);
+            P::eval_dense(mid, trial.y, &self.dense, &mut self.y_probe);
+            f.events(trial.t + mid * trial.h, &self.y_probe, &mut self.g_mid);
+            if (0..ne).any(|i| crossed(self.g_start[i], self.g_mid[i])) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        let h_cut = trial.h * hi * CUT_OVERSHOOT;
+        let floor = 64.0 * f64::EPSILON * trial.t.abs().max(trial.h.abs());
+        if !((MIN_CUT..MAX_CUT).contains(&hi) && h_cut > floor) {
+            return Ok(Cut::Keep);
+        }
+        // The attempt is void: its FSAL stage counts as a dense-output call (the RHS identity
+        // of `SolverStats` counts 11 per rejected DOP853 attempt), and its dense output is not
+        // the step's.
+        stats.dense_evals += fsal_evals;
+        self.trial_fsal = false;
+        self.trial_dense = false;
+        Ok(Cut::Retry(h_cut))
     }
 
     /// Hairer's stiffness test on the accepted step of size h (see the module documentation).
@@ -205,6 +355,10 @@ impl<F: Formulation + ?Sized, P: Pair> Integrator<F> for ExplicitRk<P> {
     fn restart(&mut self, _t: f64, _y: &[f64], f0: &[f64]) {
         self.f_start.copy_from_slice(f0);
         self.controller.reset();
+        self.g_start_at = None;
+        self.g_start_is_step_end = false;
+        self.cut_retry = false;
+        self.cut_fell_short = false;
     }
 
     fn initial_step(
@@ -240,6 +394,11 @@ impl<F: Formulation + ?Sized, P: Pair> Integrator<F> for ExplicitRk<P> {
             y_new: &mut self.y_new,
             y_stage: &mut self.y_stage,
         };
+        self.g_end_fresh = false;
+        self.g_start_is_step_end = false;
+        self.trial_fsal = false;
+        self.trial_dense = false;
+        let controller = self.controller.clone();
         P::stages(f, trial, buf, &mut stats.rhs_evals)?;
         let h_next = if trial.error_control {
             let (s1, s2) = (&mut self.scratch.0[..], &mut self.scratch.1[..]);
@@ -263,17 +422,49 @@ impl<F: Formulation + ?Sized, P: Pair> Integrator<F> for ExplicitRk<P> {
             // The driver reports it; no point evaluating f there.
             return Ok(Attempt::Accepted { h_next });
         }
-        P::after_accept(
-            f,
-            trial.t_new,
-            &self.y_new,
-            &mut self.k,
-            &mut stats.rhs_evals,
-        )?;
+        let cut_test = self.cut_at_events && trial.error_control;
+        if cut_test
+            && !self.cut_retry
+            && !self.cut_fell_short
+            && let Cut::Retry(h_cut) = self.event_cut(f, trial, stats)?
+        {
+            // Not a rejection by the controller: its history stays that of the last accepted
+            // step.
+            self.controller = controller;
+            self.cut_retry = true;
+            stats.error_test_failures += 1;
+            return Ok(Attempt::Rejected {
+                h_next: h_cut,
+                cause: Rejection::ErrorTest,
+            });
+        }
+        // A cut retry that still ends before the crossing (its solution moved the crossing by
+        // more than the overshoot): let the next attempt cross.
+        let fell_short = cut_test && self.cut_retry && !self.crosses(f, trial);
+        self.cut_retry = false;
+        self.cut_fell_short = fell_short;
+        if !self.trial_fsal {
+            P::after_accept(
+                f,
+                trial.t_new,
+                &self.y_new,
+                &mut self.k,
+                &mut stats.rhs_evals,
+            )?;
+        }
+        if cut_test {
+            if !self.g_end_fresh {
+                self.crosses(f, trial);
+            }
+            std::mem::swap(&mut self.g_start, &mut self.g_end);
+            self.g_start_at = Some(trial.t_new);
+            self.g_start_is_step_end = !self.g_start.is_empty();
+        }
         self.y_old.copy_from_slice(trial.y);
         self.t_old = trial.t;
         self.h = h;
-        self.dense_ready = false;
+        self.dense_ready = self.trial_dense;
+        self.dense_hermite = false;
         if let Some(k_fsal) = self.k.get(P::FSAL) {
             self.f_start.copy_from_slice(k_fsal);
         }
@@ -340,11 +531,21 @@ impl<F: Formulation + ?Sized, P: Pair> Integrator<F> for ExplicitRk<P> {
         self.stiff
     }
 
+    fn step_end_events(&self) -> Option<&[f64]> {
+        // After an accepted step with the cut test, `g_start` holds g at its end.
+        (self.g_start_is_step_end).then_some(self.g_start.as_slice())
+    }
+
     fn step_slopes(&self) -> Option<(&[f64], &[f64])> {
         // k_0 = f(t, y) and the FSAL stage f(t_new, y_new) of the accepted step; the lazy
         // dense-output stages are stored after them and leave both as they are.
         Some((self.k.first()?, self.k.get(P::FSAL)?))
     }
+}
+
+/// Whether a and b lie strictly on opposite sides of zero.
+fn crossed(a: f64, b: f64) -> bool {
+    (a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0)
 }
 
 /// The cubic Hermite interpolant at θ ∈ [0, 1] of a step of size h from (y0, f0) to (y1, f1).

@@ -257,6 +257,13 @@ pub trait Integrator<F: Formulation + ?Sized> {
         None
     }
 
+    /// The event functions g(t_new, y_new) at the end of the last accepted step, where the
+    /// method evaluated them there itself (the explicit pairs' cut at events). `None` (the
+    /// default): the driver evaluates them. Valid until the next attempt or restart.
+    fn step_end_events(&self) -> Option<&[f64]> {
+        None
+    }
+
     /// Whether the method's own indicator says the step size is currently limited by stability
     /// rather than accuracy (the problem is stiff for this method). Explicit pairs use
     /// Hairer's test; implicit methods keep the default `false`.

@@ -15,9 +15,10 @@ pub(crate) fn new_integrator<F: Formulation + ?Sized>(
 ) -> Box<dyn Integrator<F>> {
     let n = f.n_states();
     let beta = opts.beta_or_default();
+    let cut = opts.explicit_rk.cut_at_events;
     match opts.method {
-        Method::Dopri5 => Box::new(ExplicitRk::<Dopri5>::new(n, weights, beta)),
-        Method::Dop853 => Box::new(ExplicitRk::<Dop853>::new(n, weights, beta)),
+        Method::Dopri5 => Box::new(ExplicitRk::<Dopri5>::new(n, weights, beta, cut)),
+        Method::Dop853 => Box::new(ExplicitRk::<Dop853>::new(n, weights, beta, cut)),
         Method::Radau5 => Box::new(super::radau5::Radau5Method::new(
             f,
             &weights,

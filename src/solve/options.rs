@@ -60,10 +60,23 @@ pub struct MethodInfo {
     /// [`ExplicitRkSettings::beta`]).
     pub default_beta: f64,
     /// Whether the formulation should give the friction law's kinks as event functions, so
-    /// that the method's steps end at them (Radau5: its order-3 error estimate does not see a
-    /// kink inside a step, and the step sequence it builds after one is ragged; see the
-    /// formulations' `friction_kink_events`).
-    pub friction_kink_events: bool,
+    /// that the method's steps end at them (see the formulations' `friction_kink_events`).
+    pub friction_kink_events: KinkEvents,
+}
+
+/// When a method takes the friction law's kinks as event functions ([`MethodInfo`]). An error
+/// estimate made for a smooth right-hand side does not see a change of the force law inside a
+/// step; a method whose steps end at events keeps its error proportional to the tolerance
+/// there (docs/numerics.md, "Error proportional to tolerance").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KinkEvents {
+    /// Always (Radau5 ends every step at an event).
+    Always,
+    /// Where the method cuts its steps at events ([`ExplicitRkSettings::cut_at_events`], which
+    /// the simulation switches off at loose tolerances, where runs are chaotic either way).
+    WhereStepsAreCut,
+    /// Never (IDA's steps do not end at events: the kinks would only add located events).
+    Never,
 }
 
 const DOPRI5: MethodInfo = MethodInfo {
@@ -73,9 +86,7 @@ const DOPRI5: MethodInfo = MethodInfo {
     description: "Dormand–Prince 5(4), explicit, 6 RHS calls per step, 4th-order dense output; loose tolerances (rtol ≳ 1e-7)",
     implicit: false,
     default_beta: 0.04,
-    // Its steps do not change at a kink; located kinks would only move impact times by
-    // rounding, which a chaotic loose run amplifies into a different trajectory.
-    friction_kink_events: false,
+    friction_kink_events: KinkEvents::WhereStepsAreCut,
 };
 
 const DOP853: MethodInfo = MethodInfo {
@@ -85,7 +96,7 @@ const DOP853: MethodInfo = MethodInfo {
     description: "Hairer's DOP853 8(5,3), explicit, 12 RHS calls per step, 7th-order dense output; tight tolerances (default)",
     implicit: false,
     default_beta: 0.0,
-    friction_kink_events: false,
+    friction_kink_events: KinkEvents::WhereStepsAreCut,
 };
 
 const RADAU5: MethodInfo = MethodInfo {
@@ -95,7 +106,7 @@ const RADAU5: MethodInfo = MethodInfo {
     description: "Radau IIA order 5 (RADAU5), implicit, L-stable, Newton with the formulation's Jacobian (analytic for the reduced model), cubic dense output; stiff contact phases",
     implicit: true,
     default_beta: 0.0,
-    friction_kink_events: true,
+    friction_kink_events: KinkEvents::Always,
 };
 
 #[cfg(feature = "ida")]
@@ -106,7 +117,7 @@ const IDA: MethodInfo = MethodInfo {
     description: IDA_DESCRIPTION,
     implicit: true,
     default_beta: 0.0,
-    friction_kink_events: false,
+    friction_kink_events: KinkEvents::Never,
 };
 
 /// Hairer's tolerance transform of RADAU5: rtol' = 0.1·rtol^(2/3), atol' = atol·rtol'/rtol
@@ -228,12 +239,27 @@ pub(crate) fn implicit_methods() -> String {
 }
 
 /// Settings of the explicit Runge–Kutta pairs only (ignored by other methods).
-#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ExplicitRkSettings {
     /// Exponent β of Hairer's PI step-size controller; `None` uses
     /// [`Method::default_beta`] (0.04 for DOPRI5, 0 for DOP853). β = 0 is the classical
     /// (I-only) controller.
     pub beta: Option<f64>,
+    /// Whether an otherwise accepted step across a sign change of an event function is retried
+    /// ending just past the crossing (default `true`): the error estimate of a step across a
+    /// change of the force law (an impact, a kink of the friction law) does not see the
+    /// change, and the state at the event is read from that step's dense output
+    /// (docs/numerics.md, "Error proportional to tolerance").
+    pub cut_at_events: bool,
+}
+
+impl Default for ExplicitRkSettings {
+    fn default() -> Self {
+        Self {
+            beta: None,
+            cut_at_events: true,
+        }
+    }
 }
 
 /// Options of a run: those shared by every integrator, plus per-method settings
@@ -299,6 +325,7 @@ impl Default for SolverOptions {
     /// | `max_wall` | `None` (no limit) |
     /// | `fixed_step` | `None` (adaptive) |
     /// | `explicit_rk.beta` | `None` (0.04 for DOPRI5, 0 for DOP853) |
+    /// | `explicit_rk.cut_at_events` | `true` |
     fn default() -> Self {
         Self {
             method: Method::Dop853,
@@ -424,6 +451,14 @@ impl SolverOptions {
     #[must_use]
     pub fn beta(mut self, beta: f64) -> Self {
         self.explicit_rk.beta = Some(beta);
+        self
+    }
+
+    /// Whether the explicit pairs end a step just past an event crossing
+    /// ([`ExplicitRkSettings::cut_at_events`]).
+    #[must_use]
+    pub fn explicit_cut_at_events(mut self, on: bool) -> Self {
+        self.explicit_rk.cut_at_events = on;
         self
     }
 

@@ -295,9 +295,21 @@ impl Generalized {
         self.repartitions
     }
 
-    /// Index of the repartition event (after the clearance joints' δ events).
+    /// Index of the repartition event (after the DAE's events: the clearance joints' δ, then
+    /// their friction kinks where switched on).
     pub fn repartition_event(&self) -> usize {
-        self.dae.n_clearance_joints()
+        self.dae.n_events()
+    }
+
+    /// With `on`, the kinks of each clearance joint's friction law are event functions after
+    /// the δ events, as in the DAE ([`Dae::friction_kink_events`], `contact/kinks.rs`), at the
+    /// projected state; the repartition event follows them. A kink answers
+    /// [`EventResponse::Continue`], so the driver keeps the state as it was (the projection that
+    /// `apply_event` writes is discarded).
+    #[must_use]
+    pub fn friction_kink_events(mut self, on: bool) -> Self {
+        self.dae = self.dae.friction_kink_events(on);
+        self
     }
 
     /// The independent coordinates of the partition stored in `y` (indices into q).
