@@ -1,9 +1,9 @@
 //! A slice of the paper's Fig. 6a bifurcation diagram (docs/sweeps.md): four of its 200
 //! clearances (0.05, 0.2, 0.35 and 0.5 mm) at 3500 rpm, 150 crank turns each with 100 transient,
-//! the reduced formulation at rtol 1e-6: independent starts with DOP853 (the README's command)
-//! and with Radau5 and transient detection (the fast command's method and `--settle`). A point
-//! of the whole diagram costs what a point here costs, so 50 times one iteration is the
-//! diagram's CPU time on one core.
+//! the reduced formulation at rtol 1e-6: independent starts with DOP853 (the command in
+//! docs/usage.md, "Analyses") and with Radau5 and transient detection (the fast command's
+//! method and `--settle`). A point of the whole diagram costs what a point here costs, so 50
+//! times one iteration is the diagram's CPU time on one core.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use linkdyn::analysis::ParameterGrid;

@@ -15,7 +15,7 @@ use cli_common::{linkdyn, scratch};
 use linkdyn::formulation::ReducedLagrangian;
 use linkdyn::formulation::reduced_lagrangian::WarmState;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const MODEL: &str = "models/farahan2016.toml";
 

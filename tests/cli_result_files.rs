@@ -1,4 +1,4 @@
-//! Result files appear whole or not at all (README): `--out` refuses what is not a
+//! Result files appear whole or not at all (docs/usage.md): `--out` refuses what is not a
 //! regular file (a directory, a device node, a FIFO), the model file and a CSV name ending in
 //! `.json`; a failed or interrupted run (SIGTERM, SIGINT) leaves no temporary file and an
 //! earlier pair untouched; two runs on the same `--out` never mix their files; provenance

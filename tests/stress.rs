@@ -1,4 +1,4 @@
-//! `linkdyn stress --quick` (README): every cell of the stress table gets one of the four
+//! `linkdyn stress --quick` (docs/usage.md): every cell of the stress table gets one of the four
 //! verdicts; the reference case (250 rpm, c = 0.5 mm) is ok on every formulation × method;
 //! cases the model validation refuses carry its message; a run over its budget is "slow" with
 //! the fraction of t_end it reached; the CSV has the provenance and one row per cell.

@@ -25,7 +25,7 @@ def same_bits(a: np.ndarray, b: np.ndarray) -> bool:
 
 
 def read_csv(path):
-    """The README's one-liner."""
+    """The one-liner of docs/usage.md ("Output files")."""
     return np.genfromtxt(path, delimiter=",", names=True, deletechars="")
 
 

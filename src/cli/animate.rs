@@ -45,7 +45,8 @@ pub struct AnimateArgs {
     title: Option<String>,
     #[command(flatten)]
     solve: SolveArgs,
-    /// Equations of motion (model files only).
+    /// Equations of motion (model files only): `dae`, `reduced` (the four-bar with one
+    /// clearance joint) or `generalized`.
     #[arg(long, value_parser = parse_formulation, default_value = "dae")]
     formulation: FormulationKind,
 }

@@ -19,7 +19,8 @@ pub struct ModelArgs {
     pub model: PathBuf,
     #[command(flatten)]
     pub solve: SolveArgs,
-    /// Equations of motion: `dae` or `reduced` (the four-bar with one clearance joint).
+    /// Equations of motion: `dae`, `reduced` (the four-bar with one clearance joint) or
+    /// `generalized`.
     #[arg(long, value_parser = parse_formulation, default_value = "dae")]
     pub formulation: FormulationKind,
 }

@@ -20,7 +20,8 @@ pub struct RunArgs {
     model: PathBuf,
     #[command(flatten)]
     solve: SolveArgs,
-    /// Equations of motion.
+    /// Equations of motion: `dae`, `reduced` (the four-bar with one clearance joint) or
+    /// `generalized`.
     #[arg(long, value_parser = parse_formulation, default_value = "dae")]
     formulation: FormulationKind,
     /// Integrate the energy bookkeeping (DAE only): adds the `energy.*` columns and the energy
