@@ -13,9 +13,9 @@
 //! 4000 samples over 2 crank turns against DOP853 at rtol 1e-12 (its own error against DOPRI5
 //! there is ≤ 3e-11 rad, docs/workprecision/), and the impact count of the reference.
 
-use linkdyn::analysis::workprecision::errors;
 use linkdyn::simulation::{FormulationKind, Simulation, SimulationOptions, Trajectory};
 use linkdyn::solve::{Method, SolverOptions};
+use linkdyn::studies::workprecision::errors;
 
 mod common;
 
