@@ -155,10 +155,10 @@ fn solver_failures_are_counted_and_named() {
     assert_eq!(
         rows(&verdict),
         [
-            format!("0,-3500,{}", gave_up("0.000649361")),
+            format!("0,-3500,{}", gave_up("0.000649063")),
             "1,0,failed,0,\"--revs: driver \"\"motor\"\" has zero speed: give --t-end instead\""
                 .to_string(),
-            format!("2,3500,{}", gave_up("0.000543177")),
+            format!("2,3500,{}", gave_up("0.000543183")),
         ]
     );
 }

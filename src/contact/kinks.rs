@@ -40,6 +40,14 @@ pub fn friction_kinks(friction: &FrictionSpec) -> Option<[f64; 2]> {
     }
 }
 
+/// Whether `friction` is continuous in the slip velocity, its kinks changing only its slope.
+/// The printed variant of Ambrósio's law jumps in value at v0 and v1: where the slip settles at
+/// a jump (a sliding mode), kink events would be crossed at every step, and an explicit pair
+/// that cuts its steps at them stalls (`tests/friction_as_printed.rs`).
+pub fn continuous(friction: &FrictionSpec) -> bool {
+    !matches!(friction, FrictionSpec::AmbrosioAsPrinted { .. })
+}
+
 /// Writes the kink event functions (m/s) into `g` (length [`N_KINK_EVENTS`]) for the slip
 /// velocity `slip` and the stored impact velocity `stored`: v_t ∓ v0, v_t ∓ v1 in contact, 1
 /// (no sign change possible) otherwise.
