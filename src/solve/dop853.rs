@@ -38,7 +38,9 @@ use super::error::SolveError;
 use super::explicit::{DenseInput, Pair};
 use super::integrator::{ErrorWeights, Trial};
 use super::options::Method;
-use super::rk::{StepBuffers, combine, eval_rhs, scaled, weighted_sum};
+use super::rk::{
+    NonzeroRow, StepBuffers, combine, combine_any, combine_nonzero, eval_rhs, scaled, weighted_sum,
+};
 use super::stats::SolverStats;
 use crate::formulation::Formulation;
 
@@ -441,6 +443,21 @@ pub(crate) const E3: [f64; 12] = {
     e
 };
 
+/// The nonzero entries of the rows of [`A`] (row 12: the weights b), for the stage sums of
+/// [`step_fixed`].
+const A_NONZERO: [NonzeroRow; STAGES] = {
+    let mut rows = [NonzeroRow::of(&[]); STAGES];
+    let mut i = 0;
+    while i < STAGES {
+        rows[i] = NonzeroRow::of(A[i]);
+        i += 1;
+    }
+    rows
+};
+/// The nonzero entries of [`E5`] and [`E3`], for [`error_norm_fixed`].
+const E5_NONZERO: NonzeroRow = NonzeroRow::of(&E5);
+const E3_NONZERO: NonzeroRow = NonzeroRow::of(&E3);
+
 /// Computes stages k_1..k_11 and y_new of one step of size h from (t, y) (11 RHS calls).
 pub(crate) fn step<F: Formulation + ?Sized>(
     f: &F,
@@ -451,6 +468,27 @@ pub(crate) fn step<F: Formulation + ?Sized>(
     evals: &mut u64,
 ) -> Result<(), SolveError> {
     let StepBuffers { k, y_new, y_stage } = buf;
+    // Up to 24 states (as `combine`): a step for the exact length, whose stage sums are inlined
+    // and skip the tableau's zeros. The call and dispatch per stage sum, the test of every
+    // coefficient and the loop over a runtime length were more than half of their cost (a
+    // tenth of a reduced four-bar run); the sums themselves are the same, to the bit.
+    macro_rules! by_length {
+        ($($n:literal)*) => {
+            match y.len() {
+                $($n => {
+                    if let (Some(y), Some(y_new), Some(y_stage)) = (
+                        y.first_chunk::<$n>(),
+                        y_new.first_chunk_mut::<$n>(),
+                        y_stage.first_chunk_mut::<$n>(),
+                    ) {
+                        return step_fixed(f, t, h, y, k, y_new, y_stage, evals);
+                    }
+                })*
+                _ => {}
+            }
+        };
+    }
+    by_length!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24);
     for s in 1..N_STAGES {
         let (done, rest) = k.split_at_mut(s);
         combine(y, h, A[s], done, y_stage);
@@ -459,6 +497,36 @@ pub(crate) fn step<F: Formulation + ?Sized>(
         }
     }
     combine(y, h, B, &k[..N_STAGES], y_new);
+    Ok(())
+}
+
+/// [`step`] for N states.
+#[allow(clippy::too_many_arguments)] // `step`'s arguments with the buffers at their fixed size
+fn step_fixed<F: Formulation + ?Sized, const N: usize>(
+    f: &F,
+    t: f64,
+    h: f64,
+    y: &[f64; N],
+    k: &mut [Vec<f64>],
+    y_new: &mut [f64; N],
+    y_stage: &mut [f64; N],
+    evals: &mut u64,
+) -> Result<(), SolveError> {
+    for (s, (row, c)) in A_NONZERO.iter().zip(C).enumerate().take(N_STAGES).skip(1) {
+        let (done, rest) = k.split_at_mut(s);
+        if !combine_nonzero(y, h, row, done, y_stage) {
+            debug_assert!(false, "DOP853 stage vectors of length {N}");
+            combine_any(y, h, A[s], done, y_stage);
+        }
+        if let Some(ks) = rest.first_mut() {
+            eval_rhs(f, t + c * h, y_stage, ks, evals)?;
+        }
+    }
+    let done = k.get(..N_STAGES).unwrap_or(&[]);
+    if !combine_nonzero(y, h, &A_NONZERO[FSAL], done, y_new) {
+        debug_assert!(false, "DOP853 needs {N_STAGES} stage vectors of length {N}");
+        combine_any(y, h, B, done, y_new);
+    }
     Ok(())
 }
 
@@ -496,6 +564,20 @@ pub(crate) fn error_norm(
     if m == 0 {
         return 0.0;
     }
+    // As `step`: the same sums at a fixed length, inlined.
+    macro_rules! by_length {
+        ($($n:literal)*) => {
+            match y.len() {
+                $($n => {
+                    if let Some(norm) = error_norm_fixed::<$n>(h, y, y_new, k, weights) {
+                        return norm;
+                    }
+                })*
+                _ => {}
+            }
+        };
+    }
+    by_length!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24);
     weighted_sum(&E5, k, err5);
     weighted_sum(&E3, k, err3);
     let mut s5 = 0.0;
@@ -518,6 +600,39 @@ pub(crate) fn error_norm(
         return 0.0;
     }
     h.abs() * s5 / ((s5 + 0.01 * s3) * m as f64).sqrt()
+}
+
+/// [`error_norm`] for N states; `None` if a vector is not of length N.
+fn error_norm_fixed<const N: usize>(
+    h: f64,
+    y: &[f64],
+    y_new: &[f64],
+    k: &[Vec<f64>],
+    weights: &ErrorWeights,
+) -> Option<f64> {
+    let (rtol, atol) = (weights.rtol, weights.atol);
+    let (y, y_new) = (y.first_chunk::<N>()?, y_new.first_chunk::<N>()?);
+    let mask = weights.mask.first_chunk::<N>()?;
+    // `weighted_sum` is `combine` from zero with h = 1 (1·a = a exactly).
+    let zero = [0.0; N];
+    let (mut err5, mut err3) = ([0.0; N], [0.0; N]);
+    if !(combine_nonzero(&zero, 1.0, &E5_NONZERO, k, &mut err5)
+        && combine_nonzero(&zero, 1.0, &E3_NONZERO, k, &mut err3))
+    {
+        return None;
+    }
+    let mut s5 = 0.0;
+    let mut s3 = 0.0;
+    for ((((&w, &a), &b), &r5), &r3) in mask.iter().zip(y).zip(y_new).zip(&err5).zip(&err3) {
+        let e5 = scaled(r5, a, b, rtol, atol);
+        let e3 = scaled(r3, a, b, rtol, atol);
+        s5 += w * (e5 * e5);
+        s3 += w * (e3 * e3);
+    }
+    if s5 == 0.0 && s3 == 0.0 {
+        return Some(0.0);
+    }
+    Some(h.abs() * s5 / ((s5 + 0.01 * s3) * weights.len() as f64).sqrt())
 }
 
 /// Evaluates the three dense-output stages k_13..k_15 of a step of size h from
