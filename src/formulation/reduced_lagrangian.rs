@@ -140,18 +140,19 @@ impl Link {
             )));
         }
         let beta = d[1].atan2(d[0]);
-        let com = to_line_frame(beta, first.local, [0.0, 0.0]);
-        Ok(Link {
+        let mut link = Link {
             body,
             mass: b.mass,
             inertia: b.inertia,
             length,
             beta,
-            com,
-            pivot: b.inertia + b.mass * dot(com, com),
+            com: to_line_frame(beta, first.local, [0.0, 0.0]),
+            pivot: 0.0,
             torque: 0.0,
             loads: Vec::new(),
-        })
+        };
+        link.pivot = link.inertia + link.mass * dot(link.com, link.com);
+        Ok(link)
     }
 
     /// Moment of inertia about the link's first joint point, I + m |ρ_G|² (kg·m²).

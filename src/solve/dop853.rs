@@ -39,7 +39,7 @@ use super::explicit::{DenseInput, Pair};
 use super::integrator::{ErrorWeights, Trial};
 use super::options::Method;
 use super::rk::{
-    NonzeroRow, StepBuffers, combine, combine_any, combine_nonzero, eval_rhs, scaled, weighted_sum,
+    NonzeroRow, StepBuffers, combine, combine_nonzero, combine_stages, eval_rhs, scaled, weighted_sum,
 };
 use super::stats::SolverStats;
 use crate::formulation::Formulation;
@@ -500,7 +500,9 @@ pub(crate) fn step<F: Formulation + ?Sized>(
     Ok(())
 }
 
-/// [`step`] for N states.
+/// [`step`] for N states. The stages live in a local array while the step is computed (no
+/// vector to look up per term) and are copied into `k` at the end; each stage sum is written
+/// out for its own constant row, so that it unrolls.
 #[allow(clippy::too_many_arguments)] // `step`'s arguments with the buffers at their fixed size
 fn step_fixed<F: Formulation + ?Sized, const N: usize>(
     f: &F,
@@ -512,20 +514,27 @@ fn step_fixed<F: Formulation + ?Sized, const N: usize>(
     y_stage: &mut [f64; N],
     evals: &mut u64,
 ) -> Result<(), SolveError> {
-    for (s, (row, c)) in A_NONZERO.iter().zip(C).enumerate().take(N_STAGES).skip(1) {
-        let (done, rest) = k.split_at_mut(s);
-        if !combine_nonzero(y, h, row, done, y_stage) {
-            debug_assert!(false, "DOP853 stage vectors of length {N}");
-            combine_any(y, h, A[s], done, y_stage);
-        }
-        if let Some(ks) = rest.first_mut() {
-            eval_rhs(f, t + c * h, y_stage, ks, evals)?;
-        }
+    let mut ks = [[0.0; N]; N_STAGES];
+    match k.first().and_then(|k0| k0.first_chunk::<N>()) {
+        Some(k0) => ks[0] = *k0,
+        None => debug_assert!(false, "DOP853 stage vectors of length {N}"),
     }
-    let done = k.get(..N_STAGES).unwrap_or(&[]);
-    if !combine_nonzero(y, h, &A_NONZERO[FSAL], done, y_new) {
-        debug_assert!(false, "DOP853 needs {N_STAGES} stage vectors of length {N}");
-        combine_any(y, h, B, done, y_new);
+    macro_rules! stages {
+        ($($s:literal)*) => {$(
+            {
+                const ROW: NonzeroRow = A_NONZERO[$s];
+                combine_stages(y, h, &ROW, &ks, y_stage);
+                eval_rhs(f, t + C[$s] * h, y_stage, &mut ks[$s], evals)?;
+            }
+        )*};
+    }
+    stages!(1 2 3 4 5 6 7 8 9 10 11);
+    const WEIGHTS: NonzeroRow = A_NONZERO[FSAL];
+    combine_stages(y, h, &WEIGHTS, &ks, y_new);
+    for (kj, local) in k.iter_mut().zip(&ks).skip(1) {
+        if let Some(kj) = kj.first_chunk_mut::<N>() {
+            *kj = *local;
+        }
     }
     Ok(())
 }

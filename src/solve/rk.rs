@@ -139,6 +139,31 @@ pub(crate) fn combine_nonzero<const N: usize>(
     true
 }
 
+/// [`combine_nonzero`] with the stage vectors in a fixed-size array: called with a constant
+/// row, the loop over its entries unrolls into straight-line sums over known stages.
+#[inline(always)]
+pub(crate) fn combine_stages<const N: usize, const S: usize>(
+    y: &[f64; N],
+    h: f64,
+    row: &NonzeroRow,
+    k: &[[f64; N]; S],
+    out: &mut [f64; N],
+) {
+    let mut acc = *y;
+    for &(j, a) in row.entries() {
+        // A row refers to earlier stages only; the tables are checked by the tests.
+        let Some(kj) = k.get(j) else {
+            debug_assert!(false, "tableau entry for stage {j} of {S}");
+            continue;
+        };
+        let ha = h * a;
+        for (o, &v) in acc.iter_mut().zip(kj) {
+            *o += ha * v;
+        }
+    }
+    *out = acc;
+}
+
 /// [`combine`] for any length.
 pub(crate) fn combine_any(y: &[f64], h: f64, coeffs: &[f64], k: &[Vec<f64>], out: &mut [f64]) {
     out.copy_from_slice(y);
