@@ -39,7 +39,8 @@ use super::explicit::{DenseInput, Pair};
 use super::integrator::{ErrorWeights, Trial};
 use super::options::Method;
 use super::rk::{
-    NonzeroRow, StepBuffers, combine, combine_nonzero, combine_stages, eval_rhs, scaled, weighted_sum,
+    NonzeroRow, StepBuffers, combine, combine_nonzero, combine_stages, eval_rhs, scaled,
+    weighted_sum,
 };
 use super::stats::SolverStats;
 use crate::formulation::Formulation;
