@@ -39,8 +39,7 @@ use super::explicit::{DenseInput, Pair};
 use super::integrator::{ErrorWeights, Trial};
 use super::options::Method;
 use super::rk::{
-    NonzeroRow, StepBuffers, combine, combine_nonzero, combine_stages, eval_rhs, scaled,
-    weighted_sum,
+    NonzeroRow, StepBuffers, combine, combine_refs, combine_stages, eval_rhs, scaled, weighted_sum,
 };
 use super::stats::SolverStats;
 use crate::formulation::Formulation;
@@ -623,14 +622,21 @@ fn error_norm_fixed<const N: usize>(
     let (rtol, atol) = (weights.rtol, weights.atol);
     let (y, y_new) = (y.first_chunk::<N>()?, y_new.first_chunk::<N>()?);
     let mask = weights.mask.first_chunk::<N>()?;
+    if k.len() < N_STAGES {
+        return None;
+    }
+    let stages: [&[f64; N]; N_STAGES] = {
+        let mut stages = [&[0.0; N]; N_STAGES];
+        for (s, kj) in stages.iter_mut().zip(k) {
+            *s = kj.first_chunk::<N>()?;
+        }
+        stages
+    };
     // `weighted_sum` is `combine` from zero with h = 1 (1·a = a exactly).
     let zero = [0.0; N];
     let (mut err5, mut err3) = ([0.0; N], [0.0; N]);
-    if !(combine_nonzero(&zero, 1.0, &E5_NONZERO, k, &mut err5)
-        && combine_nonzero(&zero, 1.0, &E3_NONZERO, k, &mut err3))
-    {
-        return None;
-    }
+    combine_refs(&zero, 1.0, &E5_NONZERO, &stages, &mut err5);
+    combine_refs(&zero, 1.0, &E3_NONZERO, &stages, &mut err3);
     let mut s5 = 0.0;
     let mut s3 = 0.0;
     for ((((&w, &a), &b), &r5), &r3) in mask.iter().zip(y).zip(y_new).zip(&err5).zip(&err3) {

@@ -77,7 +77,7 @@ fn combine_fixed<const N: usize>(
 }
 
 /// The nonzero coefficients (j, a_j) of one row of a Butcher tableau, in the order of j, found
-/// at compile time: the stage sums of a fixed-size step ([`combine_nonzero`]) then skip the
+/// at compile time: the stage sums of a fixed-size step ([`combine_stages`]) then skip the
 /// tableau's zeros without testing each one (DOP853's rows are a third zeros).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct NonzeroRow {
@@ -113,34 +113,10 @@ impl NonzeroRow {
     }
 }
 
-/// out = y + h Σ_j a_j k_j over the nonzero entries of a tableau row, for vectors of length N:
-/// the sums of [`combine`] (the same products h·a_j and additions in the same order, so the
-/// same bits), inlined into a step of fixed size. False (`out` then unspecified) if a stage
-/// vector is shorter than N.
-#[inline(always)]
-pub(crate) fn combine_nonzero<const N: usize>(
-    y: &[f64; N],
-    h: f64,
-    row: &NonzeroRow,
-    k: &[Vec<f64>],
-    out: &mut [f64; N],
-) -> bool {
-    let mut acc = *y;
-    for &(j, a) in row.entries() {
-        let Some(kj) = k.get(j).and_then(|v| v.first_chunk::<N>()) else {
-            return false;
-        };
-        let ha = h * a;
-        for (o, &v) in acc.iter_mut().zip(kj) {
-            *o += ha * v;
-        }
-    }
-    *out = acc;
-    true
-}
-
-/// [`combine_nonzero`] with the stage vectors in a fixed-size array: called with a constant
-/// row, the loop over its entries unrolls into straight-line sums over known stages.
+/// out = y + h Σ_j a_j k_j over the nonzero entries of a tableau row, for vectors of length N
+/// with the stage vectors in a fixed-size array: the sums of [`combine`] (the same products
+/// h·a_j and additions in the same order, so the same bits). Called with a constant row, the
+/// loop over its entries unrolls into straight-line sums over known stages.
 #[inline(always)]
 pub(crate) fn combine_stages<const N: usize, const S: usize>(
     y: &[f64; N],
@@ -158,6 +134,29 @@ pub(crate) fn combine_stages<const N: usize, const S: usize>(
         };
         let ha = h * a;
         for (o, &v) in acc.iter_mut().zip(kj) {
+            *o += ha * v;
+        }
+    }
+    *out = acc;
+}
+
+/// [`combine_stages`] with the stage vectors by reference.
+#[inline(always)]
+pub(crate) fn combine_refs<const N: usize, const S: usize>(
+    y: &[f64; N],
+    h: f64,
+    row: &NonzeroRow,
+    k: &[&[f64; N]; S],
+    out: &mut [f64; N],
+) {
+    let mut acc = *y;
+    for &(j, a) in row.entries() {
+        let Some(kj) = k.get(j) else {
+            debug_assert!(false, "tableau entry for stage {j} of {S}");
+            continue;
+        };
+        let ha = h * a;
+        for (o, &v) in acc.iter_mut().zip(kj.iter()) {
             *o += ha * v;
         }
     }
