@@ -59,7 +59,7 @@ fn factor_fixed<const M: usize>(
     let a = &mut a[..M * M];
     // One copy of the column step per column index, written out: the compiler does not unroll
     // the nest of loops whole (their bounds depend on the column), and their counters and
-    // exits were a quarter of a DAE factorisation. Columns j ≥ M are compiled away.
+    // exits were a third of a DAE factorisation. Columns j ≥ M are compiled away.
     macro_rules! columns {
         ($($j:literal)*) => {$(
             if $j < M {
