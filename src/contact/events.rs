@@ -42,6 +42,7 @@
 
 /// The impact velocity (m/s) a contact law should use: the stored δ̇⁽⁻⁾ `stored` if one is
 /// recorded (> 0), else the current penetration rate `delta_dot` (module documentation).
+#[inline]
 pub fn impact_velocity(stored: f64, delta_dot: f64) -> f64 {
     if stored > 0.0 { stored } else { delta_dot }
 }

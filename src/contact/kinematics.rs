@@ -124,6 +124,7 @@ pub struct ContactForces {
 
 impl ContactKinematics {
     /// Unit tangent t = perp(n) = (−n_y, n_x).
+    #[inline]
     pub fn tangent(&self) -> [f64; 2] {
         perp(self.normal)
     }
@@ -154,6 +155,7 @@ impl ContactKinematics {
 
     /// The forces and moments on journal and bearing for a normal force F_N (N) and a friction
     /// force F_T (N, on the journal along t).
+    #[inline]
     pub fn forces(&self, normal_force: f64, friction_force: f64) -> ContactForces {
         let n = self.normal;
         let t = self.tangent();
@@ -179,6 +181,7 @@ impl ContactKinematics {
 /// Kinematics of the clearance joint with bearing centre `bearing`, journal centre `journal`,
 /// journal radius `journal_radius` = R_J (m) and radial clearance `clearance` = c (m); see the
 /// module documentation for every convention.
+#[inline]
 pub fn clearance_kinematics(
     bearing: &CentreMotion,
     journal: &CentreMotion,

@@ -110,6 +110,7 @@ impl ClearanceJoint {
 
     /// Kinematics of the joint from the motion of the bearing and journal centres
     /// ([`clearance_kinematics`]).
+    #[inline]
     pub fn kinematics(&self, bearing: &CentreMotion, journal: &CentreMotion) -> ContactKinematics {
         clearance_kinematics(bearing, journal, self.journal_radius, self.clearance)
     }
@@ -135,15 +136,28 @@ impl ClearanceJoint {
     /// Normal force, friction force and their action on both bodies, given the joint's kinematics
     /// and the impact velocity δ̇⁽⁻⁾ (m/s) to use (see [`impact_velocity`]).
     /// All zero when δ ≤ 0.
+    #[inline]
     pub fn forces(&self, kinematics: &ContactKinematics, impact_velocity: f64) -> ContactForces {
+        let (normal, tangential) = self.force_magnitudes(kinematics, impact_velocity);
+        kinematics.forces(normal, tangential)
+    }
+
+    /// The normal force F_N (N, ≥ 0) and the friction force F_T (N, on the journal along t) of
+    /// [`ClearanceJoint::forces`], without their action on the bodies; (0, 0) when δ ≤ 0.
+    #[inline(always)] // the right-hand sides call it at every evaluation
+    pub fn force_magnitudes(
+        &self,
+        kinematics: &ContactKinematics,
+        impact_velocity: f64,
+    ) -> (f64, f64) {
         let normal = self
             .law
             .normal_force(kinematics.delta, kinematics.delta_dot, impact_velocity);
         if normal == 0.0 {
-            return kinematics.forces(0.0, 0.0);
+            return (0.0, 0.0);
         }
         let tangential = friction_force(&self.friction, normal, kinematics.tangential_velocity);
-        kinematics.forces(normal, tangential)
+        (normal, tangential)
     }
 }
 

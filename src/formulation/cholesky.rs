@@ -57,27 +57,37 @@ fn factor_fixed<const M: usize>(
 ) -> Result<(), usize> {
     // A slice of known length: with the loops unrolled, every index is a constant in bounds.
     let a = &mut a[..M * M];
-    for j in 0..M {
-        let diagonal = a[j * M + j];
-        // Sums start at −0, as `Iterator::sum` does (the same zeros as `factor_any`).
-        let mut sum = -0.0;
-        for k in 0..j {
-            sum += a[j * M + k] * a[j * M + k];
-        }
-        let raw = diagonal - sum;
-        let Some(d) = pivot(j, raw, diagonal) else {
-            return Err(j);
-        };
-        let inv = 1.0 / d.sqrt();
-        a[j * M + j] = inv;
-        for i in j + 1..M {
-            let mut dot = -0.0;
-            for k in 0..j {
-                dot += a[i * M + k] * a[j * M + k];
+    // One copy of the column step per column index, written out: the compiler does not unroll
+    // the nest of loops whole (their bounds depend on the column), and their counters and
+    // exits were a third of a DAE factorisation. Columns j ≥ M are compiled away.
+    macro_rules! columns {
+        ($($j:literal)*) => {$(
+            if $j < M {
+                let j: usize = $j;
+                let diagonal = a[j * M + j];
+                // Sums start at −0, as `Iterator::sum` does (the same zeros as `factor_any`).
+                let mut sum = -0.0;
+                for k in 0..j {
+                    sum += a[j * M + k] * a[j * M + k];
+                }
+                let raw = diagonal - sum;
+                let Some(d) = pivot(j, raw, diagonal) else {
+                    return Err(j);
+                };
+                let inv = 1.0 / d.sqrt();
+                a[j * M + j] = inv;
+                for i in j + 1..M {
+                    let mut dot = -0.0;
+                    for k in 0..j {
+                        dot += a[i * M + k] * a[j * M + k];
+                    }
+                    a[i * M + j] = (a[i * M + j] - dot) * inv;
+                }
             }
-            a[i * M + j] = (a[i * M + j] - dot) * inv;
-        }
+        )*};
     }
+    columns!(0 1 2 3 4 5 6 7 8 9);
+    debug_assert!(M <= 10, "fixed sizes up to 10 rows");
     Ok(())
 }
 
@@ -127,20 +137,34 @@ pub fn solve(l: &[f64], m: usize, b: &mut [f64]) {
 /// [`solve`] for m = M.
 fn solve_fixed<const M: usize>(l: &[f64], b: &mut [f64]) {
     let (l, b) = (&l[..M * M], &mut b[..M]);
-    for i in 0..M {
-        let mut dot = -0.0;
-        for k in 0..i {
-            dot += l[i * M + k] * b[k];
-        }
-        b[i] = (b[i] - dot) * l[i * M + i];
+    // Rows written out as in `factor_fixed`.
+    macro_rules! forward {
+        ($($i:literal)*) => {$(
+            if $i < M {
+                let i: usize = $i;
+                let mut dot = -0.0;
+                for k in 0..i {
+                    dot += l[i * M + k] * b[k];
+                }
+                b[i] = (b[i] - dot) * l[i * M + i];
+            }
+        )*};
     }
-    for i in (0..M).rev() {
-        let mut s = b[i];
-        for k in (i + 1)..M {
-            s -= l[k * M + i] * b[k];
-        }
-        b[i] = s * l[i * M + i];
+    macro_rules! backward {
+        ($($i:literal)*) => {$(
+            if $i < M {
+                let i: usize = $i;
+                let mut s = b[i];
+                for k in (i + 1)..M {
+                    s -= l[k * M + i] * b[k];
+                }
+                b[i] = s * l[i * M + i];
+            }
+        )*};
     }
+    forward!(0 1 2 3 4 5 6 7 8 9);
+    backward!(9 8 7 6 5 4 3 2 1 0);
+    debug_assert!(M <= 10, "fixed sizes up to 10 rows");
 }
 
 /// [`solve`] for any m.

@@ -112,6 +112,9 @@ struct Link {
     beta: f64,
     /// Centre of mass in the line frame (m).
     com: [f64; 2],
+    /// I + m |ρ_G|², the moment of inertia about the first joint point (kg·m²), kept: the
+    /// right-hand side divides by it at every call.
+    pivot: f64,
     /// Sum of the model's constant torques on the body (N·m).
     torque: f64,
     /// Constant point forces: (point in the line frame (m), force (N, global)).
@@ -138,21 +141,24 @@ impl Link {
             )));
         }
         let beta = d[1].atan2(d[0]);
-        Ok(Link {
+        let mut link = Link {
             body,
             mass: b.mass,
             inertia: b.inertia,
             length,
             beta,
             com: to_line_frame(beta, first.local, [0.0, 0.0]),
+            pivot: 0.0,
             torque: 0.0,
             loads: Vec::new(),
-        })
+        };
+        link.pivot = link.inertia + link.mass * dot(link.com, link.com);
+        Ok(link)
     }
 
     /// Moment of inertia about the link's first joint point, I + m |ρ_G|² (kg·m²).
     fn pivot_inertia(&self) -> f64 {
-        self.inertia + self.mass * dot(self.com, self.com)
+        self.pivot
     }
 
     /// Σ (R(θ) ρ_P) × F_P about the first joint point and Σ F_P, at (sin θ, cos θ).
@@ -643,7 +649,14 @@ impl ReducedLagrangian {
                 return cached.sc;
             }
         }
-        let sc = angles.map(f64::sin_cos);
+        let sc = angles.map(|a| {
+            let (sin, cos) = a.sin_cos();
+            // Each value through its own register: otherwise the compiler lets `sincos` write
+            // straight into the cache and then reads each (sin, cos) pair back with one 16-byte
+            // load, which cannot be forwarded from the two 8-byte stores just made and stalls
+            // (perf: about a tenth of the right-hand side's cycles).
+            (std::hint::black_box(sin), std::hint::black_box(cos))
+        });
         self.trig.set(TrigCache { angles: bits, sc });
         sc
     }
@@ -699,6 +712,7 @@ impl ReducedLagrangian {
         self.joint_kinematics(&c)
     }
 
+    #[inline(always)] // as `dynamics`: otherwise the chain and the kinematics go through memory
     fn joint_kinematics(&self, c: &Chain) -> ContactKinematics {
         if self.bearing_on_coupler {
             self.joint.kinematics(&c.coupler_centre, &c.rocker_centre)

@@ -59,6 +59,9 @@ struct Coupling {
     i: usize,
     /// Row whose plain block enters.
     j: usize,
+    /// Its index in the constraint rows, `active[j]` (looked up once: `active` is the same at
+    /// every call).
+    row_j: usize,
     /// Block of row i: 0 = body a, 1 = body b.
     side_i: u8,
     /// Block of row j.
@@ -219,6 +222,7 @@ impl Schur {
             .map(|&(i, j, side_i, side_j)| Coupling {
                 i,
                 j,
+                row_j: active[j],
                 side_i,
                 side_j,
                 pos: position(i, j),
@@ -380,7 +384,8 @@ impl Schur {
         values.fill(0.0);
         for p in &self.couplings {
             let w = &self.weighted[p.i][p.side_i as usize];
-            let row_j = &rows[active[p.j]];
+            debug_assert_eq!(active[p.j], p.row_j, "the rows given at construction");
+            let row_j = &rows[p.row_j];
             let jac = if p.side_j == 0 {
                 &row_j.jac_a
             } else {

@@ -38,7 +38,9 @@ use super::error::SolveError;
 use super::explicit::{DenseInput, Pair};
 use super::integrator::{ErrorWeights, Trial};
 use super::options::Method;
-use super::rk::{StepBuffers, combine, eval_rhs, scaled, weighted_sum};
+use super::rk::{
+    NonzeroRow, StepBuffers, combine, combine_refs, combine_stages, eval_rhs, scaled, weighted_sum,
+};
 use super::stats::SolverStats;
 use crate::formulation::Formulation;
 
@@ -441,6 +443,21 @@ pub(crate) const E3: [f64; 12] = {
     e
 };
 
+/// The nonzero entries of the rows of [`A`] (row 12: the weights b), for the stage sums of
+/// [`step_fixed`].
+const A_NONZERO: [NonzeroRow; STAGES] = {
+    let mut rows = [NonzeroRow::of(&[]); STAGES];
+    let mut i = 0;
+    while i < STAGES {
+        rows[i] = NonzeroRow::of(A[i]);
+        i += 1;
+    }
+    rows
+};
+/// The nonzero entries of [`E5`] and [`E3`], for [`error_norm_fixed`].
+const E5_NONZERO: NonzeroRow = NonzeroRow::of(&E5);
+const E3_NONZERO: NonzeroRow = NonzeroRow::of(&E3);
+
 /// Computes stages k_1..k_11 and y_new of one step of size h from (t, y) (11 RHS calls).
 pub(crate) fn step<F: Formulation + ?Sized>(
     f: &F,
@@ -451,6 +468,42 @@ pub(crate) fn step<F: Formulation + ?Sized>(
     evals: &mut u64,
 ) -> Result<(), SolveError> {
     let StepBuffers { k, y_new, y_stage } = buf;
+    // Up to 24 states (as `combine`): a step for the exact length, whose stage sums are inlined
+    // and skip the tableau's zeros. The call and dispatch per stage sum, the test of every
+    // coefficient and the loop over a runtime length were more than half of their cost (a
+    // tenth of a reduced four-bar run); the sums themselves are the same, to the bit.
+    macro_rules! by_length {
+        ($($n:literal)*) => {
+            match y.len() {
+                $($n => {
+                    if let (Some(y), Some(y_new), Some(y_stage)) = (
+                        y.first_chunk::<$n>(),
+                        y_new.first_chunk_mut::<$n>(),
+                        y_stage.first_chunk_mut::<$n>(),
+                    ) {
+                        return step_fixed(f, t, h, y, k, y_new, y_stage, evals);
+                    }
+                })*
+                _ => {}
+            }
+        };
+    }
+    by_length!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24);
+    step_any(f, t, h, y, k, y_new, y_stage, evals)
+}
+
+/// [`step`] for any number of states.
+#[allow(clippy::too_many_arguments)] // `step`'s arguments with the buffers unpacked
+fn step_any<F: Formulation + ?Sized>(
+    f: &F,
+    t: f64,
+    h: f64,
+    y: &[f64],
+    k: &mut [Vec<f64>],
+    y_new: &mut [f64],
+    y_stage: &mut [f64],
+    evals: &mut u64,
+) -> Result<(), SolveError> {
     for s in 1..N_STAGES {
         let (done, rest) = k.split_at_mut(s);
         combine(y, h, A[s], done, y_stage);
@@ -459,6 +512,45 @@ pub(crate) fn step<F: Formulation + ?Sized>(
         }
     }
     combine(y, h, B, &k[..N_STAGES], y_new);
+    Ok(())
+}
+
+/// [`step`] for N states. The stages live in a local array while the step is computed (no
+/// vector to look up per term) and are copied into `k` at the end; each stage sum is written
+/// out for its own constant row, so that it unrolls.
+#[allow(clippy::too_many_arguments)] // `step`'s arguments with the buffers at their fixed size
+fn step_fixed<F: Formulation + ?Sized, const N: usize>(
+    f: &F,
+    t: f64,
+    h: f64,
+    y: &[f64; N],
+    k: &mut [Vec<f64>],
+    y_new: &mut [f64; N],
+    y_stage: &mut [f64; N],
+    evals: &mut u64,
+) -> Result<(), SolveError> {
+    let mut ks = [[0.0; N]; N_STAGES];
+    match k.first().and_then(|k0| k0.first_chunk::<N>()) {
+        Some(k0) => ks[0] = *k0,
+        None => debug_assert!(false, "DOP853 stage vectors of length {N}"),
+    }
+    macro_rules! stages {
+        ($($s:literal)*) => {$(
+            {
+                const ROW: NonzeroRow = A_NONZERO[$s];
+                combine_stages(y, h, &ROW, &ks, y_stage);
+                eval_rhs(f, t + C[$s] * h, y_stage, &mut ks[$s], evals)?;
+            }
+        )*};
+    }
+    stages!(1 2 3 4 5 6 7 8 9 10 11);
+    const WEIGHTS: NonzeroRow = A_NONZERO[FSAL];
+    combine_stages(y, h, &WEIGHTS, &ks, y_new);
+    for (kj, local) in k.iter_mut().zip(&ks).skip(1) {
+        if let Some(kj) = kj.first_chunk_mut::<N>() {
+            *kj = *local;
+        }
+    }
     Ok(())
 }
 
@@ -490,12 +582,38 @@ pub(crate) fn error_norm(
     weights: &ErrorWeights,
     scratch: (&mut [f64], &mut [f64]),
 ) -> f64 {
+    if weights.is_empty() {
+        return 0.0;
+    }
+    // As `step`: the same sums at a fixed length, inlined.
+    macro_rules! by_length {
+        ($($n:literal)*) => {
+            match y.len() {
+                $($n => {
+                    if let Some(norm) = error_norm_fixed::<$n>(h, y, y_new, k, weights) {
+                        return norm;
+                    }
+                })*
+                _ => {}
+            }
+        };
+    }
+    by_length!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24);
+    error_norm_any(h, y, y_new, k, weights, scratch)
+}
+
+/// [`error_norm`] for any number of states (m > 0).
+fn error_norm_any(
+    h: f64,
+    y: &[f64],
+    y_new: &[f64],
+    k: &[Vec<f64>],
+    weights: &ErrorWeights,
+    scratch: (&mut [f64], &mut [f64]),
+) -> f64 {
     let (rtol, atol) = (weights.rtol, weights.atol);
     let (err5, err3) = scratch;
     let m = weights.len();
-    if m == 0 {
-        return 0.0;
-    }
     weighted_sum(&E5, k, err5);
     weighted_sum(&E3, k, err3);
     let mut s5 = 0.0;
@@ -518,6 +636,46 @@ pub(crate) fn error_norm(
         return 0.0;
     }
     h.abs() * s5 / ((s5 + 0.01 * s3) * m as f64).sqrt()
+}
+
+/// [`error_norm`] for N states; `None` if a vector is not of length N.
+fn error_norm_fixed<const N: usize>(
+    h: f64,
+    y: &[f64],
+    y_new: &[f64],
+    k: &[Vec<f64>],
+    weights: &ErrorWeights,
+) -> Option<f64> {
+    let (rtol, atol) = (weights.rtol, weights.atol);
+    let (y, y_new) = (y.first_chunk::<N>()?, y_new.first_chunk::<N>()?);
+    let mask = weights.mask.first_chunk::<N>()?;
+    if k.len() < N_STAGES {
+        return None;
+    }
+    let stages: [&[f64; N]; N_STAGES] = {
+        let mut stages = [&[0.0; N]; N_STAGES];
+        for (s, kj) in stages.iter_mut().zip(k) {
+            *s = kj.first_chunk::<N>()?;
+        }
+        stages
+    };
+    // `weighted_sum` is `combine` from zero with h = 1 (1·a = a exactly).
+    let zero = [0.0; N];
+    let (mut err5, mut err3) = ([0.0; N], [0.0; N]);
+    combine_refs(&zero, 1.0, &E5_NONZERO, &stages, &mut err5);
+    combine_refs(&zero, 1.0, &E3_NONZERO, &stages, &mut err3);
+    let mut s5 = 0.0;
+    let mut s3 = 0.0;
+    for ((((&w, &a), &b), &r5), &r3) in mask.iter().zip(y).zip(y_new).zip(&err5).zip(&err3) {
+        let e5 = scaled(r5, a, b, rtol, atol);
+        let e3 = scaled(r3, a, b, rtol, atol);
+        s5 += w * (e5 * e5);
+        s3 += w * (e3 * e3);
+    }
+    if s5 == 0.0 && s3 == 0.0 {
+        return Some(0.0);
+    }
+    Some(h.abs() * s5 / ((s5 + 0.01 * s3) * weights.len() as f64).sqrt())
 }
 
 /// Evaluates the three dense-output stages k_13..k_15 of a step of size h from
@@ -649,6 +807,99 @@ mod tests {
             let d7 = t.max_continuous_defect(&w, theta, 7);
             assert!(d7 < 1e-11, "θ = {theta}: order-7 defect {d7}");
         }
+    }
+
+    /// A small nonlinear system with a little of everything (products, a sine, time, a constant
+    /// component), whose stages differ in every component.
+    struct Mixed(usize);
+
+    impl Formulation for Mixed {
+        fn n_states(&self) -> usize {
+            self.0
+        }
+        fn initial_state(&self) -> Vec<f64> {
+            (0..self.0).map(|i| 0.3 + 0.1 * i as f64).collect()
+        }
+        fn rhs(
+            &self,
+            t: f64,
+            y: &[f64],
+            dy: &mut [f64],
+        ) -> Result<(), crate::formulation::FormulationError> {
+            let n = y.len();
+            for i in 0..n {
+                dy[i] = (y[(i + 1) % n] * y[i]).sin() - 0.7 * y[(i + 2) % n] + t * i as f64;
+            }
+            if let Some(last) = dy.last_mut() {
+                *last = 0.0;
+            }
+            Ok(())
+        }
+    }
+
+    /// The fixed-size step and error norm give the general loops' stages, solution and norm to
+    /// the bit (the same sums in the same order), with a bookkeeping component left out of the
+    /// norm, for one state and the sizes of the reduced four-bar (5) and the DAE four-bar (19).
+    #[test]
+    fn fixed_size_step_equals_the_general_loop_bit_for_bit() -> Result<(), SolveError> {
+        for n in [1, 5, 19] {
+            let f = Mixed(n);
+            let y = f.initial_state();
+            let (t, h) = (0.25, 0.05);
+            let run = |fixed: bool| -> Result<_, SolveError> {
+                let mut k = vec![vec![0.0; n]; STAGES];
+                let mut evals = 0;
+                eval_rhs(&f, t, &y, &mut k[0], &mut evals)?;
+                let (mut y_new, mut y_stage) = (vec![0.0; n], vec![0.0; n]);
+                let buf = StepBuffers {
+                    k: &mut k,
+                    y_new: &mut y_new,
+                    y_stage: &mut y_stage,
+                };
+                if fixed {
+                    step(&f, t, h, &y, buf, &mut evals)?;
+                } else {
+                    step_any(&f, t, h, &y, buf.k, buf.y_new, buf.y_stage, &mut evals)?;
+                }
+                let mut mask = vec![true; n];
+                if n > 1 {
+                    mask[n - 1] = false;
+                }
+                let weights = ErrorWeights {
+                    rtol: 1e-9,
+                    atol: 1e-12,
+                    controlled: (0..n).filter(|&i| mask[i]).collect(),
+                    mask: mask.iter().map(|&c| if c { 1.0 } else { 0.0 }).collect(),
+                };
+                let (mut s1, mut s2) = (vec![0.0; n], vec![0.0; n]);
+                let norm = if fixed {
+                    error_norm(h, &y, &y_new, &k, &weights, (&mut s1, &mut s2))
+                } else {
+                    error_norm_any(h, &y, &y_new, &k, &weights, (&mut s1, &mut s2))
+                };
+                Ok((k, y_new, y_stage, norm, evals))
+            };
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            let (fast, plain) = (run(true)?, run(false)?);
+            for s in 0..N_STAGES {
+                assert_eq!(bits(&fast.0[s]), bits(&plain.0[s]), "n = {n}, stage {s}");
+            }
+            assert_eq!(bits(&fast.1), bits(&plain.1), "n = {n}, y_new");
+            assert_eq!(
+                bits(&fast.2),
+                bits(&plain.2),
+                "n = {n}, last stage argument"
+            );
+            assert_eq!(
+                fast.3.to_bits(),
+                plain.3.to_bits(),
+                "n = {n}, error norm {} vs {}",
+                fast.3,
+                plain.3
+            );
+            assert_eq!(fast.4, plain.4, "n = {n}, RHS calls");
+        }
+        Ok(())
     }
 
     #[test]

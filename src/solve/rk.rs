@@ -76,8 +76,95 @@ fn combine_fixed<const N: usize>(
     true
 }
 
+/// The nonzero coefficients (j, a_j) of one row of a Butcher tableau, in the order of j, found
+/// at compile time: the stage sums of a fixed-size step ([`combine_stages`]) then skip the
+/// tableau's zeros without testing each one (DOP853's rows are a third zeros).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct NonzeroRow {
+    entries: [(usize, f64); MAX_ROW],
+    len: usize,
+}
+
+/// Longest tableau row [`NonzeroRow`] holds (DOP853's dense-output rows have 16 entries).
+const MAX_ROW: usize = 16;
+
+impl NonzeroRow {
+    /// The nonzero entries of `row` (at most [`MAX_ROW`] long; longer rows fail to compile
+    /// where the constant is built).
+    pub(crate) const fn of(row: &[f64]) -> NonzeroRow {
+        let mut entries = [(0, 0.0); MAX_ROW];
+        let mut len = 0;
+        let mut j = 0;
+        while j < row.len() {
+            // As `combine`: an entry equal to zero (of either sign) adds nothing and is skipped.
+            if row[j] != 0.0 {
+                entries[len] = (j, row[j]);
+                len += 1;
+            }
+            j += 1;
+        }
+        NonzeroRow { entries, len }
+    }
+
+    /// The entries (j, a_j).
+    #[inline(always)]
+    pub(crate) fn entries(&self) -> &[(usize, f64)] {
+        self.entries.get(..self.len).unwrap_or(&[])
+    }
+}
+
+/// out = y + h Σ_j a_j k_j over the nonzero entries of a tableau row, for vectors of length N
+/// with the stage vectors in a fixed-size array: the sums of [`combine`] (the same products
+/// h·a_j and additions in the same order, so the same bits). Called with a constant row, the
+/// loop over its entries unrolls into straight-line sums over known stages.
+#[inline(always)]
+pub(crate) fn combine_stages<const N: usize, const S: usize>(
+    y: &[f64; N],
+    h: f64,
+    row: &NonzeroRow,
+    k: &[[f64; N]; S],
+    out: &mut [f64; N],
+) {
+    let mut acc = *y;
+    for &(j, a) in row.entries() {
+        // A row refers to earlier stages only; the tables are checked by the tests.
+        let Some(kj) = k.get(j) else {
+            debug_assert!(false, "tableau entry for stage {j} of {S}");
+            continue;
+        };
+        let ha = h * a;
+        for (o, &v) in acc.iter_mut().zip(kj) {
+            *o += ha * v;
+        }
+    }
+    *out = acc;
+}
+
+/// [`combine_stages`] with the stage vectors by reference.
+#[inline(always)]
+pub(crate) fn combine_refs<const N: usize, const S: usize>(
+    y: &[f64; N],
+    h: f64,
+    row: &NonzeroRow,
+    k: &[&[f64; N]; S],
+    out: &mut [f64; N],
+) {
+    let mut acc = *y;
+    for &(j, a) in row.entries() {
+        let Some(kj) = k.get(j) else {
+            debug_assert!(false, "tableau entry for stage {j} of {S}");
+            continue;
+        };
+        let ha = h * a;
+        for (o, &v) in acc.iter_mut().zip(kj.iter()) {
+            *o += ha * v;
+        }
+    }
+    *out = acc;
+}
+
 /// [`combine`] for any length.
-fn combine_any(y: &[f64], h: f64, coeffs: &[f64], k: &[Vec<f64>], out: &mut [f64]) {
+pub(crate) fn combine_any(y: &[f64], h: f64, coeffs: &[f64], k: &[Vec<f64>], out: &mut [f64]) {
     out.copy_from_slice(y);
     for (&a, kj) in coeffs.iter().zip(k) {
         if a != 0.0 {
@@ -116,6 +203,7 @@ pub(crate) fn weighted_sum(coeffs: &[f64], k: &[Vec<f64>], out: &mut [f64]) {
 /// err / sk, where sk = atol + rtol·max(|y_i|, |y_new_i|) is the error scale of component i.
 /// With atol = 0 a component that is exactly zero has sk = 0: a zero error then counts as 0,
 /// any other error as infinitely large (the step is rejected).
+#[inline]
 pub(crate) fn scaled(err: f64, y: f64, y_new: f64, rtol: f64, atol: f64) -> f64 {
     let sk = atol + rtol * y.abs().max(y_new.abs());
     if sk > 0.0 {

@@ -39,6 +39,7 @@
 /// Ambrósio's dynamic correction factor c_d ∈ [0, 1] (–) at slip speed `speed` = |v_t| (m/s):
 /// 0 below v0, 1 above v1, linear in between. With v1 ≤ v0 (refused by the model validation) it is
 /// a step at v1.
+#[inline]
 pub fn dynamic_correction(speed: f64, v0: f64, v1: f64) -> f64 {
     if speed < v0 {
         0.0
@@ -63,6 +64,7 @@ pub struct AmbrosioFriction {
 impl AmbrosioFriction {
     /// F_T = −c_f c_d F_N sign(v_t) (N): the signed force on the journal along t, for the normal
     /// force `normal_force` (N) and slip velocity `tangential_velocity` (m/s). 0 when F_N ≤ 0.
+    #[inline]
     pub fn force(&self, normal_force: f64, tangential_velocity: f64) -> f64 {
         if normal_force.is_nan() || normal_force <= 0.0 {
             return 0.0;

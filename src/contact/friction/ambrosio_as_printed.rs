@@ -45,6 +45,7 @@
 
 /// The dynamic correction factor c_d ∈ [0, 1] (–) of eq. 11 as printed, at slip speed `speed` =
 /// |v_t| (m/s): 1 below v0, the ramp (|v_t| − v0)/(v1 − v0) from v0 to v1, 0 above v1.
+#[inline]
 pub fn printed_correction(speed: f64, v0: f64, v1: f64) -> f64 {
     if speed < v0 {
         1.0
@@ -70,6 +71,7 @@ impl AmbrosioAsPrinted {
     /// F_T = −c_f c_d F_N sign(v_t) (N) with the printed c_d: the signed force on the journal along
     /// t for the normal force `normal_force` (N) and slip velocity `tangential_velocity` (m/s).
     /// 0 when F_N ≤ 0 and at v_t = 0 exactly (sign(0) = 0).
+    #[inline]
     pub fn force(&self, normal_force: f64, tangential_velocity: f64) -> f64 {
         if normal_force.is_nan() || normal_force <= 0.0 || tangential_velocity == 0.0 {
             return 0.0;

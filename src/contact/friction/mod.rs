@@ -28,6 +28,7 @@ use crate::model::FrictionSpec;
 /// Signed friction force F_T (N) on the journal along the tangent t, for the normal force
 /// `normal_force` = F_N (N, ≥ 0) and the slip velocity `tangential_velocity` = v_t (m/s, journal
 /// relative to bearing along t). `FrictionSpec::None` → 0. A non-positive F_N (no contact) gives 0.
+#[inline]
 pub fn friction_force(spec: &FrictionSpec, normal_force: f64, tangential_velocity: f64) -> f64 {
     match *spec {
         FrictionSpec::None => 0.0,

@@ -18,6 +18,7 @@ use super::hysteresis_force;
 
 /// Hysteresis factor χ = 8(1 − c_r)/(5 c_r) (–) of the Flores et al. law; c_r > 0 (the model
 /// validation refuses c_r ≤ 0).
+#[inline]
 pub fn damping_factor(restitution: f64) -> f64 {
     8.0 * (1.0 - restitution) / (5.0 * restitution)
 }

@@ -17,6 +17,7 @@
 use super::hysteresis_force;
 
 /// Hysteresis factor of the Hertz law: χ = 0 whatever c_r.
+#[inline]
 pub fn damping_factor(_restitution: f64) -> f64 {
     0.0
 }

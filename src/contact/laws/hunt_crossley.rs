@@ -21,6 +21,7 @@
 use super::hysteresis_force;
 
 /// Hysteresis factor χ = 3(1 − c_r)/2 (–) of the Hunt–Crossley law.
+#[inline]
 pub fn damping_factor(restitution: f64) -> f64 {
     1.5 * (1.0 - restitution)
 }

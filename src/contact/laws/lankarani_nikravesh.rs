@@ -22,6 +22,7 @@
 use super::hysteresis_force;
 
 /// Hysteresis factor χ = 3(1 − c_r²)/4 (–) of the Lankarani–Nikravesh law.
+#[inline]
 pub fn damping_factor(restitution: f64) -> f64 {
     0.75 * (1.0 - restitution * restitution)
 }

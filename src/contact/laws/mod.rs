@@ -77,6 +77,7 @@ pub const MIN_IMPACT_VELOCITY: f64 = 1e-6;
 /// F_N = max(0, K δⁿ (1 + χ δ̇/δ̇⁽⁻⁾)) for δ > 0, else 0; with δ̇⁽⁻⁾ ≤ [`MIN_IMPACT_VELOCITY`] (or
 /// not finite) the damping term is off: F_N = K δⁿ. Units and signs as in the module
 /// documentation; `chi` is the law's hysteresis factor χ (–).
+#[inline]
 pub fn hysteresis_force(
     stiffness: f64,
     exponent: f64,
@@ -185,6 +186,7 @@ impl ContactLaw {
     }
 
     /// The hysteresis factor χ(c_r) of this law (–): the coefficient of δ̇/δ̇⁽⁻⁾.
+    #[inline]
     pub fn damping_factor(&self) -> f64 {
         match self.kind {
             ContactLawKind::LankaraniNikravesh => {
@@ -199,6 +201,7 @@ impl ContactLaw {
     /// Normal force F_N (N, ≥ 0) at penetration `delta` (m), penetration rate `delta_dot` (m/s)
     /// and impact velocity `impact_velocity` = δ̇⁽⁻⁾ (m/s); 0 for δ ≤ 0. See [`hysteresis_force`]
     /// for the clamp and the fallback when δ̇⁽⁻⁾ is not usable.
+    #[inline]
     pub fn normal_force(&self, delta: f64, delta_dot: f64, impact_velocity: f64) -> f64 {
         hysteresis_force(
             self.stiffness,
