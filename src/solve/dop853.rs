@@ -813,6 +813,8 @@ mod tests {
     /// component), whose stages differ in every component.
     struct Mixed(usize);
 
+    impl crate::formulation::NoStepHooks for Mixed {}
+
     impl Formulation for Mixed {
         fn n_states(&self) -> usize {
             self.0
