@@ -274,8 +274,9 @@ class Result:
         """The run summary (the JSON file of ``linkdyn run``); a new dict on every access."""
     @property
     def events(self) -> List[Dict[str, Any]]:
-        """Located events in time order: ``t`` (s), ``index``, ``joint`` (or None), ``kind``
-        (``"impact"`` or ``"separation"``), ``restarted``."""
+        """The located contact events in time order: ``t`` (s), ``index``, ``joint``, ``kind``
+        (``"impact"`` or ``"separation"``), ``restarted``. Events where the method only ended
+        its steps (friction kinks, repartitions) are not listed."""
     def column(self, name: str) -> FloatArray:
         """A column by name (``"t"`` included); ``KeyError`` if there is none."""
     def __getitem__(self, name: str) -> FloatArray:

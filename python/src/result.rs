@@ -34,9 +34,13 @@ impl PyResult_ {
     /// Takes the trajectory's vectors over as NumPy arrays; `clearance` names the clearance
     /// joints in model order (event k belongs to joint k).
     pub fn new(py: Python<'_>, run: Trajectory, clearance: Vec<String>) -> PyResult<Self> {
+        // The contact events only: event k < n_c is clearance joint k's δ; the others (the
+        // friction kinks, the generalised formulation's repartition) are where the method ended
+        // its steps, not impacts or separations.
         let events = run
             .events
             .iter()
+            .filter(|e| e.index < clearance.len())
             .map(|e| {
                 let kind = match e.crossing {
                     Crossing::Rising => "impact",
@@ -150,9 +154,10 @@ impl PyResult_ {
         py.import("json")?.call_method1("loads", (text,))
     }
 
-    /// Located events in time order: one dict each with `t` (s), `index`, `joint` (the
-    /// clearance joint, or None), `kind` (`"impact"`: δ rising through 0, `"separation"`)
-    /// and `restarted`.
+    /// The located contact events in time order: one dict each with `t` (s), `index`, `joint`
+    /// (the clearance joint), `kind` (`"impact"`: δ rising through 0, `"separation"`) and
+    /// `restarted`. Events where the method only ended its steps (the friction law's kinks,
+    /// the generalised formulation's repartition) are not listed.
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
