@@ -2,7 +2,9 @@
 
 use crate::errors;
 use linkdyn::formulation::Crossing;
-use linkdyn::output::{CsvSink, ResultPair, check_npz_size, impacts_csv, impacts_path, write_npz};
+use linkdyn::output::{
+    CsvSink, ResultPair, check_mat, check_npz_size, impacts_csv, impacts_path, write_mat, write_npz,
+};
 use linkdyn::simulation::{Columns, RunSummary, Sample, SampleSink, Trajectory};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyImportError, PyKeyError};
@@ -188,22 +190,22 @@ impl PyResult_ {
         pandas.call_method1("DataFrame", (data,))
     }
 
-    /// Writes the result files of `linkdyn run --out PATH --format FORMAT`: the CSV (or NPZ)
-    /// and the JSON summary beside it (`PATH` with the extension `.json`), both appearing
-    /// whole or not at all, the earlier pair untouched on failure. The CSV is byte for byte the
+    /// Writes the result files of `linkdyn run --out PATH --format FORMAT` (`"csv"`, `"npz"` or
+    /// `"mat"`): the data file, the JSON summary beside it (`PATH` with the extension `.json`)
+    /// and the impact log, all appearing whole or not at all, the earlier pair untouched on failure. The CSV is byte for byte the
     /// command line's for the same model and settings. Raises `OutputError`.
     #[pyo3(signature = (path, format = "csv"))]
     fn save(&self, py: Python<'_>, path: std::path::PathBuf, format: &str) -> PyResult<()> {
         let to_py = |e: linkdyn::output::OutputError| errors::to_py(py, e.into(), None);
-        let npz = match format {
-            "csv" => false,
-            "npz" => true,
+        // The CSV is streamed row by row; the NPZ and the MAT-file take the columns whole.
+        let format = match format {
+            "csv" | "npz" | "mat" => format,
             other => {
                 return Err(errors::to_py(
                     py,
                     linkdyn::Error::settings(
                         "format",
-                        format!("expected \"csv\" or \"npz\", got \"{other}\""),
+                        format!("expected \"csv\", \"npz\" or \"mat\", got \"{other}\""),
                     ),
                     None,
                 ));
@@ -229,15 +231,19 @@ impl PyResult_ {
         let summary = &self.summary;
         py.detach(|| -> Result<(), linkdyn::Error> {
             let provenance = &summary.provenance;
-            if npz {
-                check_npz_size(&path, data.t.len(), names)?;
+            match format {
+                "npz" => check_npz_size(&path, data.t.len(), names)?,
+                "mat" => check_mat(&path, data.t.len(), names)?,
+                _ => {}
             }
             // The model file itself is never a target (as on the command line).
             let model = std::path::Path::new(&provenance.model.path);
             // The same files as `linkdyn run`: data, summary and impact log, all or none.
             let mut pair = ResultPair::begin_with(&path, Some(model), &[impacts_path(&path)])?;
-            if npz {
+            if format == "npz" {
                 write_npz(pair.csv().writer(), &path, provenance, names, &data)?;
+            } else if format == "mat" {
+                write_mat(pair.csv().writer(), &path, provenance, names, &data)?;
             } else {
                 let label = path.display().to_string();
                 let mut csv = CsvSink::new(pair.csv().writer(), label, provenance, names)?;

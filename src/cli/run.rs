@@ -1,6 +1,6 @@
-//! `linkdyn run MODEL …`: integrate and write `F.csv` (streamed) or `F.npz` (`--format npz`,
-//! written from memory after the run), the summary `F.json` and the impact log
-//! `F.impacts.csv`, committed together (see [`linkdyn::output::ResultPair`]).
+//! `linkdyn run MODEL …`: integrate and write `F.csv` (streamed), `F.npz` (`--format npz`) or
+//! `F.mat` (`--format mat`; both written from memory after the run), the summary `F.json` and
+//! the impact log `F.impacts.csv`, committed together (see [`linkdyn::output::ResultPair`]).
 
 use super::args::SolveArgs;
 use super::progress::Watched;
@@ -8,10 +8,13 @@ use super::{Failure, in_model, interrupt};
 use clap::{Args, ValueEnum};
 use linkdyn::model::DriverMotion;
 use linkdyn::output::{
-    CsvSink, ResultPair, check_npz_size, format_for_people, impacts_csv, impacts_path, write_npz,
+    CsvSink, OutputError, ResultPair, check_mat, check_npz_size, format_for_people, impacts_csv,
+    impacts_path, write_mat, write_npz,
 };
-use linkdyn::simulation::{Columns, FormulationKind, RunSummary, Simulation};
-use std::path::PathBuf;
+use linkdyn::simulation::{Columns, FormulationKind, Provenance, RunSummary, Simulation};
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `run`.
 #[derive(Debug, Args)]
@@ -28,12 +31,15 @@ pub struct RunArgs {
     /// balance to the summary.
     #[arg(long)]
     energy: bool,
-    /// Output file (CSV or NPZ, see --format); the summary goes beside it with the extension
-    /// `.json`, the impact log with `.impacts.csv`.
+    /// Output file (CSV, NPZ or MAT, see --format); the summary goes beside it with the
+    /// extension `.json`, the impact log with `.impacts.csv`.
     #[arg(long)]
     out: PathBuf,
-    /// Result file format: csv (streamed to disk as the run goes) or npz (NumPy: one float64
-    /// array per column and the provenance as JSON; kept in memory until the run ends).
+    /// Result file format: csv (streamed to disk as the run goes), npz (NumPy: one float64
+    /// array per column and the provenance as JSON) or mat (MATLAB Level-5 MAT-file: one double
+    /// column vector per column, `coupler.phi` as `coupler_phi`, the provenance and the
+    /// names back in `columns`; docs/usage.md, "Output files"); npz and mat are kept in memory
+    /// until the run ends.
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
 }
@@ -45,6 +51,9 @@ enum Format {
     Csv,
     /// NumPy `.npz`: one array per column, `provenance` as a JSON string.
     Npz,
+    /// MATLAB Level-5 `.mat`: one double column vector per column (`.` and `-` become `_`),
+    /// `provenance` as JSON text, the linkdyn names in the char matrix `columns`.
+    Mat,
 }
 
 fn parse_formulation(s: &str) -> Result<FormulationKind, String> {
@@ -61,8 +70,10 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         .formulation(args.formulation)
         .energy(args.energy);
     let sim = Simulation::new(&model, options).map_err(|e| in_model(&args.model, e))?;
-    if args.format == Format::Npz {
-        check_npz_size(&args.out, sim.expected_samples(), sim.column_names())?;
+    match args.format {
+        Format::Csv => {}
+        Format::Npz => check_npz_size(&args.out, sim.expected_samples(), sim.column_names())?,
+        Format::Mat => check_mat(&args.out, sim.expected_samples(), sim.column_names())?,
     }
     let mut pair =
         ResultPair::begin_with(&args.out, Some(&args.model), &[impacts_path(&args.out)])?;
@@ -72,7 +83,8 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
     interrupt::remove_on_abort(pair.scratch_paths());
     let result = match args.format {
         Format::Csv => run_csv(&sim, &mut pair, args),
-        Format::Npz => run_npz(&sim, &mut pair, args),
+        Format::Npz => run_in_memory(&sim, &mut pair, args, write_npz),
+        Format::Mat => run_in_memory(&sim, &mut pair, args, write_mat),
     };
     if interrupt::requested() {
         // Dropping the pair removes both temporary files and the lock file.
@@ -176,12 +188,17 @@ fn run_csv(
     result
 }
 
-/// Runs into memory, then writes the NPZ into the data file of `pair` (not after an
-/// interrupt: the pair is dropped then anyway).
-fn run_npz(
+/// The writer of a result file made from columns in memory ([`write_npz`], [`write_mat`]).
+type WriteColumns =
+    fn(&mut BufWriter<File>, &Path, &Provenance, &[String], &Columns) -> Result<(), OutputError>;
+
+/// Runs into memory, then writes the file with `write` into the data file of `pair` (not after
+/// an interrupt: the pair is dropped then anyway).
+fn run_in_memory(
     sim: &Simulation,
     pair: &mut ResultPair,
     args: &RunArgs,
+    write: WriteColumns,
 ) -> Result<RunSummary, linkdyn::Error> {
     let mut columns = Columns::with_capacity(sim.column_names().len(), sim.expected_samples());
     let mut sink = Watched::new(&mut columns, sim);
@@ -189,7 +206,7 @@ fn run_npz(
     sink.finish();
     let summary = result?;
     if !interrupt::requested() {
-        write_npz(
+        write(
             pair.csv().writer(),
             &args.out,
             &sim.provenance(),

@@ -15,6 +15,8 @@
 //!   [`check_target`] refuses targets that are not regular files;
 //! * [`write_npz`] writes a run kept in memory as a NumPy `.npz` archive (one array per
 //!   column, the provenance as JSON), for the same [`ResultPair`] in place of the CSV;
+//! * [`write_mat`] writes it as a MATLAB Level-5 MAT-file instead (one double column vector
+//!   per column under a valid MATLAB name, the provenance, the names back), the same way;
 //! * [`AtomicFile`] is one such file on its own (temporary file + rename).
 
 mod atomic;
@@ -22,6 +24,7 @@ mod csv;
 mod impacts;
 mod journal;
 mod lock;
+mod mat;
 mod npz;
 mod pair;
 mod scratch;
@@ -35,6 +38,7 @@ pub use csv::{CsvSink, csv_header};
 pub use impacts::{IMPACTS_HEADER, impacts_csv};
 pub use journal::journal_path;
 pub use lock::OutputLock;
+pub use mat::{FIXED_VARIABLES, MAX_NAME_LEN, check_mat, matlab_name, matlab_names, write_mat};
 pub use npz::{PROVENANCE_MEMBER, check_npz_size, write_npz};
 pub use pair::{ResultPair, impacts_path, summary_path};
 pub use summary::write_json;
