@@ -34,7 +34,7 @@ struct Common {
     ylim: Option<String>,
     /// Size of tick and legend text in points (1 pt = 1 px); axis labels are 1.2 and the title
     /// 1.5 times as large. Default 20.
-    #[arg(long, value_name = "PT")]
+    #[arg(long, value_name = "PT", allow_hyphen_values = true)]
     font_size: Option<f64>,
     /// Legend name of a file's data, one per file in order (FILE, then --compare); default:
     /// the model and its --set overrides from the file's provenance.
@@ -178,11 +178,11 @@ enum Kind {
         log: bool,
         /// Driving frequency (Hz): its multiples are marked. Default: the file's
         /// `driving_frequency_hz` provenance line, if any.
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         driving_hz: Option<f64>,
         /// Highest frequency drawn (Hz). Default: 25 × the driving frequency when known,
         /// otherwise every bin.
-        #[arg(long, value_name = "HZ")]
+        #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
         fmax: Option<f64>,
         #[command(flatten)]
         common: Common,
