@@ -556,7 +556,7 @@ fn bad_limits_labels_and_font_sizes_exit_2_naming_the_option() {
         ),
     ];
     for (extra, expected) in cases {
-        let mut args = vec!["lyapunov", &*i.lyapunov.to_str().unwrap_or_default()];
+        let mut args = vec!["lyapunov", i.lyapunov.to_str().unwrap_or_default()];
         args.extend(extra);
         let got = svg_of(&dir, "bad", &args);
         let Err((code, err)) = got else {

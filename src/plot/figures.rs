@@ -478,21 +478,20 @@ pub fn spectrum(table: &Table, options: &SpectrumOptions) -> Result<Figure, Plot
             .and_then(|v| v.trim().parse().ok())
             .filter(|v: &f64| v.is_finite() && *v > 0.0)
     });
-    if let Some(fd) = options.driving_hz {
-        if !(fd.is_finite() && fd > 0.0) {
-            return Err(PlotError::Option {
-                option: "--driving-hz".into(),
-                reason: format!("{fd} Hz is not a positive frequency"),
-            });
-        }
+    if let Some(fd) = options
+        .driving_hz
+        .filter(|fd| !(fd.is_finite() && *fd > 0.0))
+    {
+        return Err(PlotError::Option {
+            option: "--driving-hz".into(),
+            reason: format!("{fd} Hz is not a positive frequency"),
+        });
     }
-    if let Some(fm) = options.f_max {
-        if !(fm.is_finite() && fm > 0.0) {
-            return Err(PlotError::Option {
-                option: "--fmax".into(),
-                reason: format!("expected a positive frequency in Hz, got {fm}"),
-            });
-        }
+    if let Some(fm) = options.f_max.filter(|fm| !(fm.is_finite() && *fm > 0.0)) {
+        return Err(PlotError::Option {
+            option: "--fmax".into(),
+            reason: format!("expected a positive frequency in Hz, got {fm}"),
+        });
     }
     let f_top = f
         .iter()

@@ -19,7 +19,7 @@
 //! use linkdyn::plot::{figures, render, Table};
 //!
 //! let run = Table::read("r.csv".as_ref())?;
-//! let fig = figures::series(&run, &["motor.torque".to_string()], None)?;
+//! let fig = figures::series(&[&run], &["motor.torque".to_string()], &[])?;
 //! render(&fig, "torque.png".as_ref())?;
 //! # Ok::<(), linkdyn::plot::PlotError>(())
 //! ```

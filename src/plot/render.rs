@@ -213,11 +213,9 @@ fn axis_range(fig: &Figure, vertical: bool) -> Result<(f64, f64), String> {
         let f = (hi / lo).powf(MARGIN);
         return Ok((lo / f, hi * f));
     }
-    if let Some(span) = axis.min_span.filter(|s| s.is_finite() && *s > 0.0) {
-        if hi - lo < span {
-            let centre = (lo + hi) / 2.0;
-            (lo, hi) = (centre - span / 2.0, centre + span / 2.0);
-        }
+    if let Some(span) = axis.min_span.filter(|s| s.is_finite() && *s > hi - lo) {
+        let centre = (lo + hi) / 2.0;
+        (lo, hi) = (centre - span / 2.0, centre + span / 2.0);
     }
     if hi <= lo {
         let pad = if lo == 0.0 { 1.0 } else { 0.05 * lo.abs() };
