@@ -4,7 +4,7 @@
 
 use super::{EXIT_BAD_INPUT, EXIT_OUTPUT, Failure};
 use clap::{Args, Subcommand};
-use linkdyn::plot::{Figure, PlotError, figures, render};
+use linkdyn::plot::{Figure, PlotError, SpectrumOptions, Table, figures, render};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `plot`.
@@ -26,6 +26,94 @@ struct Common {
     /// Title instead of the generated one.
     #[arg(long)]
     title: Option<String>,
+    /// Horizontal axis range LOW,HIGH in the axis's units (e.g. `0,100`); data outside is cut.
+    #[arg(long, value_name = "LOW,HIGH", allow_hyphen_values = true)]
+    xlim: Option<String>,
+    /// Vertical axis range LOW,HIGH in the axis's units (e.g. `-0.5,0.5`).
+    #[arg(long, value_name = "LOW,HIGH", allow_hyphen_values = true)]
+    ylim: Option<String>,
+    /// Size of tick and legend text in points (1 pt = 1 px); axis labels are 1.2 and the title
+    /// 1.5 times as large. Default 20.
+    #[arg(long, value_name = "PT", allow_hyphen_values = true)]
+    font_size: Option<f64>,
+    /// Legend name of a file's data, one per file in order (FILE, then --compare); default:
+    /// the model and its --set overrides from the file's provenance.
+    #[arg(long, value_name = "NAME")]
+    label: Vec<String>,
+}
+
+/// Smallest and largest accepted `--font-size` (pt): below, digits are unreadable at any
+/// figure size; above, eight tick labels no longer fit a 1200 px axis.
+const FONT_SIZE_PT: (f64, f64) = (6.0, 72.0);
+
+/// Parses an axis range `LOW,HIGH` given to `option`, or says what was expected.
+fn parse_limits(option: &str, text: &str) -> Result<(f64, f64), Failure> {
+    let bad = |why: &str| Failure {
+        code: EXIT_BAD_INPUT,
+        message: format!(
+            "{option}: expected two numbers LOW,HIGH with LOW < HIGH (e.g. {option} 0,100), got `{text}`{why}"
+        ),
+    };
+    let Some((lo, hi)) = text.split_once(',') else {
+        return Err(bad(""));
+    };
+    let (Ok(lo), Ok(hi)) = (lo.trim().parse::<f64>(), hi.trim().parse::<f64>()) else {
+        return Err(bad(""));
+    };
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(bad(": both must be finite"));
+    }
+    if lo >= hi {
+        return Err(bad(": LOW is not below HIGH"));
+    }
+    Ok((lo, hi))
+}
+
+impl Common {
+    /// Applies the options every figure takes (size, title, ranges, font size) to `fig`.
+    fn apply(&self, fig: &mut Figure) -> Result<(), Failure> {
+        fig.size = self.size;
+        if let Some(t) = &self.title {
+            fig.title.clone_from(t);
+        }
+        for (option, text, axis) in [
+            ("--xlim", &self.xlim, &mut fig.x),
+            ("--ylim", &self.ylim, &mut fig.y),
+        ] {
+            if let Some(text) = text {
+                let (lo, hi) = parse_limits(option, text)?;
+                if axis.log && lo <= 0.0 {
+                    return Err(Failure {
+                        code: EXIT_BAD_INPUT,
+                        message: format!(
+                            "{option}: expected a positive LOW on a logarithmic axis, got `{text}`"
+                        ),
+                    });
+                }
+                axis.range = Some((lo, hi));
+            }
+        }
+        if let Some(pt) = self.font_size {
+            let (min, max) = FONT_SIZE_PT;
+            if !(min..=max).contains(&pt) {
+                return Err(Failure {
+                    code: EXIT_BAD_INPUT,
+                    message: format!("--font-size: expected {min} to {max} pt, got {pt}"),
+                });
+            }
+            fig.font_size = pt;
+        }
+        Ok(())
+    }
+
+    /// The single-file figures' `--label`: at most one, naming the data in a legend.
+    fn label_one(&self, fig: &mut Figure, table: &Table) -> Result<(), Failure> {
+        figures::check_labels(&self.label, &[table])?;
+        if let Some(label) = self.label.first() {
+            fig.label_data(label);
+        }
+        Ok(())
+    }
 }
 
 #[derive(Debug, Subcommand)]
@@ -66,6 +154,11 @@ enum Kind {
         /// Column on the vertical axis.
         #[arg(long)]
         y: String,
+        /// Radial clearance (m): the smallest span of length axes. Default: read from the
+        /// model in the file's provenance for `<joint>.ex`/`.ey` columns, else a thousandth of
+        /// the largest value.
+        #[arg(long)]
+        clearance: Option<f64>,
         #[command(flatten)]
         common: Common,
     },
@@ -83,9 +176,14 @@ enum Kind {
         /// Logarithmic amplitude axis.
         #[arg(long)]
         log: bool,
-        /// Driving frequency (Hz): its multiples are marked.
-        #[arg(long)]
+        /// Driving frequency (Hz): its multiples are marked. Default: the file's
+        /// `driving_frequency_hz` provenance line, if any.
+        #[arg(long, allow_hyphen_values = true)]
         driving_hz: Option<f64>,
+        /// Highest frequency drawn (Hz). Default: 25 × the driving frequency when known,
+        /// otherwise every bin.
+        #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
+        fmax: Option<f64>,
         #[command(flatten)]
         common: Common,
     },
@@ -158,7 +256,9 @@ pub fn run(args: &PlotArgs) -> Result<(), Failure> {
         } => {
             let run = read(file)?;
             let other = compare.as_deref().map(read).transpose()?;
-            (figures::series(&run, y, other.as_ref())?, common)
+            let mut tables = vec![&run];
+            tables.extend(other.as_ref());
+            (figures::series(&tables, y, &common.label)?, common)
         }
         Kind::Orbit {
             file,
@@ -171,28 +271,85 @@ pub fn run(args: &PlotArgs) -> Result<(), Failure> {
                 Some(c) => *c,
                 None => figures::clearance_from_provenance(&run, joint)?,
             };
-            (figures::orbit(&run, joint, c)?, common)
+            let mut fig = figures::orbit(&run, joint, c)?;
+            common.label_one(&mut fig, &run)?;
+            (fig, common)
         }
-        Kind::Poincare { file, x, y, common } => (figures::poincare(&read(file)?, x, y)?, common),
-        Kind::Bifurcation { file, common } => (figures::bifurcation(&read(file)?)?, common),
+        Kind::Poincare {
+            file,
+            x,
+            y,
+            clearance,
+            common,
+        } => {
+            let table = read(file)?;
+            // A section of a clearance joint's eccentricities is shown at least as wide as
+            // the clearance, when the model in the provenance says what it is.
+            let joint = [x, y]
+                .into_iter()
+                .find_map(|c| c.strip_suffix(".ex").or_else(|| c.strip_suffix(".ey")));
+            let c = clearance
+                .or_else(|| joint.and_then(|j| figures::clearance_from_provenance(&table, j).ok()));
+            let mut fig = figures::poincare(&table, x, y, c)?;
+            common.label_one(&mut fig, &table)?;
+            (fig, common)
+        }
+        Kind::Bifurcation { file, common } => {
+            let table = read(file)?;
+            let mut fig = figures::bifurcation(&table)?;
+            common.label_one(&mut fig, &table)?;
+            (fig, common)
+        }
         Kind::Spectrum {
             file,
             log,
             driving_hz,
+            fmax,
             common,
-        } => (figures::spectrum(&read(file)?, *log, *driving_hz)?, common),
+        } => {
+            let table = read(file)?;
+            let options = SpectrumOptions {
+                log: *log,
+                driving_hz: *driving_hz,
+                f_max: *fmax,
+            };
+            let mut fig = figures::spectrum(&table, &options)?;
+            common.label_one(&mut fig, &table)?;
+            (fig, common)
+        }
         Kind::Phase {
             file,
             value_name,
             common,
-        } => (figures::phase(&read(file)?, value_name.as_deref())?, common),
+        } => {
+            let table = read(file)?;
+            let mut fig = figures::phase(&table, value_name.as_deref())?;
+            common.label_one(&mut fig, &table)?;
+            (fig, common)
+        }
         Kind::Mechanism {
             file,
             time,
             magnify,
             common,
         } => {
-            // A still frame of the animation, drawn by linkdyn::animate rather than plotters.
+            // A still frame of the animation, drawn by linkdyn::animate rather than plotters:
+            // it has no axes, so of the common options only size and title apply.
+            for (option, given) in [
+                ("--xlim", common.xlim.is_some()),
+                ("--ylim", common.ylim.is_some()),
+                ("--font-size", common.font_size.is_some()),
+                ("--label", !common.label.is_empty()),
+            ] {
+                if given {
+                    return Err(Failure {
+                        code: EXIT_BAD_INPUT,
+                        message: format!(
+                            "{option}: not available for `plot mechanism` (a drawing without axes or legend)"
+                        ),
+                    });
+                }
+            }
             let run = read(file)?;
             let (model, _) = figures::model_from_provenance(&run).map_err(|reason| Failure {
                 code: EXIT_BAD_INPUT,
@@ -210,15 +367,17 @@ pub fn run(args: &PlotArgs) -> Result<(), Failure> {
             eprintln!("{}", common.out.display());
             return Ok(());
         }
-        Kind::Lyapunov { file, common } => (figures::lyapunov(&read(file)?)?, common),
+        Kind::Lyapunov { file, common } => {
+            let table = read(file)?;
+            let mut fig = figures::lyapunov(&table)?;
+            common.label_one(&mut fig, &table)?;
+            (fig, common)
+        }
     };
     let out = &common.out;
     // Refuse an unknown format before anything else is written.
     linkdyn::plot::Format::from_path(out)?;
-    fig.size = common.size;
-    if let Some(t) = &common.title {
-        fig.title.clone_from(t);
-    }
+    common.apply(&mut fig)?;
     render(&fig, out)?;
     eprintln!("{}", out.display());
     Ok(())

@@ -19,7 +19,7 @@
 //! use linkdyn::plot::{figures, render, Table};
 //!
 //! let run = Table::read("r.csv".as_ref())?;
-//! let fig = figures::series(&run, &["motor.torque".to_string()], None)?;
+//! let fig = figures::series(&[&run], &["motor.torque".to_string()], &[])?;
 //! render(&fig, "torque.png".as_ref())?;
 //! # Ok::<(), linkdyn::plot::PlotError>(())
 //! ```
@@ -33,6 +33,7 @@ mod units;
 pub mod workprecision;
 
 pub use error::PlotError;
+pub use figures::SpectrumOptions;
 pub use render::{Format, render, render_to_bytes};
 pub use table::Table;
 pub use units::{axis_label, unit_of};
@@ -40,6 +41,32 @@ pub use units::{axis_label, unit_of};
 /// Default figure size in pixels (PNG; the SVG uses the same user units): readable on a
 /// laptop screen at 100 %.
 pub const DEFAULT_SIZE: (u32, u32) = (1200, 800);
+
+/// Default size (px, one pixel per point) of tick and legend text; axis labels are 1.2 times
+/// and the title 1.5 times as large. 20 px is readable on a 1200×800 figure at 100 %.
+pub const DEFAULT_FONT_SIZE: f64 = 20.0;
+
+/// How a line is stroked, so that series stay apart in greyscale print and for readers who
+/// cannot tell the colours apart.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Dash {
+    /// A continuous line.
+    #[default]
+    Solid,
+    /// Long dashes (12 px on, 8 px off).
+    Dashed,
+    /// Dots (3 px on, 5 px off).
+    Dotted,
+    /// Short dashes (6 px on, 6 px off).
+    ShortDashed,
+}
+
+impl Dash {
+    /// The stroke for the `k`-th series of a figure (solid, dashed, dotted, short dashes, again).
+    pub fn nth(k: usize) -> Dash {
+        [Dash::Solid, Dash::Dashed, Dash::Dotted, Dash::ShortDashed][k % 4]
+    }
+}
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,6 +91,8 @@ pub struct Series {
     pub style: Style,
     /// Colour index into the figure palette; equal indices give equal colours.
     pub colour: usize,
+    /// Stroke of a line (dots ignore it).
+    pub dash: Dash,
     /// Points (x, y) in axis units; non-finite points are skipped.
     pub points: Vec<(f64, f64)>,
 }
@@ -77,6 +106,9 @@ pub struct Axis {
     pub log: bool,
     /// Fixed range; `None` fits the data with a 3 % margin.
     pub range: Option<(f64, f64)>,
+    /// Smallest span of a fitted linear axis (axis units): data spread over less is shown
+    /// centred in this span, so that a converged point is not magnified to round-off.
+    pub min_span: Option<f64>,
 }
 
 /// A figure: what to draw, in axis units, with no reference to any file.
@@ -97,6 +129,8 @@ pub struct Figure {
     pub equal_aspect: bool,
     /// Size in pixels (width, height).
     pub size: (u32, u32),
+    /// Size (px) of tick and legend text; axis labels and title scale with it.
+    pub font_size: f64,
 }
 
 impl Figure {
@@ -110,6 +144,27 @@ impl Figure {
             vertical_marks: Vec::new(),
             equal_aspect: false,
             size: DEFAULT_SIZE,
+            font_size: DEFAULT_FONT_SIZE,
+        }
+    }
+
+    /// Names the data (every series but reference geometry) after `label`: the one data
+    /// series is called `label`, several are called `<their name> (label)`.
+    pub fn label_data(&mut self, label: &str) {
+        let n = self
+            .series
+            .iter()
+            .filter(|s| s.style != Style::Reference)
+            .count();
+        for s in self
+            .series
+            .iter_mut()
+            .filter(|s| s.style != Style::Reference)
+        {
+            s.name = Some(match (&s.name, n) {
+                (Some(name), 2..) => format!("{name} ({label})"),
+                _ => label.to_string(),
+            });
         }
     }
 }
@@ -121,6 +176,7 @@ impl Axis {
             label: label.into(),
             log: false,
             range: None,
+            min_span: None,
         }
     }
 }

@@ -140,6 +140,36 @@ impl Table {
         Some((model, sets))
     }
 
+    /// The value of a `key = value` setting line of the provenance (`observe = B.fn`), if any.
+    pub fn setting(&self, key: &str) -> Option<String> {
+        self.comments.iter().find_map(|c| {
+            let (k, v) = c.split_once(" = ")?;
+            (k == key).then(|| unescape(v))
+        })
+    }
+
+    /// The model's file stem and the `--set` overrides from the provenance
+    /// (`farahan2016`, `["drivers.motor.speed_rpm=3500"]`), for titles and legends that say
+    /// what was run rather than where it was saved; `None` without a `model` line.
+    pub fn run_description(&self) -> Option<(String, Vec<String>)> {
+        let (path, sets) = self.model_source()?;
+        let stem = path.file_stem().map_or_else(
+            || path.display().to_string(),
+            |s| s.to_string_lossy().into_owned(),
+        );
+        Some((stem, sets))
+    }
+
+    /// What the file is a result of, for a title: `farahan2016 with a=1, b=2` from the
+    /// provenance, or the file name without one.
+    pub fn title_name(&self) -> String {
+        match self.run_description() {
+            Some((model, sets)) if sets.is_empty() => model,
+            Some((model, sets)) => format!("{model} with {}", sets.join(", ")),
+            None => self.file_name(),
+        }
+    }
+
     /// The file name for titles (`r.csv`).
     pub fn file_name(&self) -> String {
         self.path.file_name().map_or_else(
@@ -202,6 +232,21 @@ mod tests {
                 PathBuf::from("dir with space/m.toml"),
                 vec!["joints.B.clearance=0.001".to_string()]
             ))
+        );
+    }
+
+    #[test]
+    fn titles_name_the_model_and_its_overrides() {
+        let t = Table::parse(Path::new("r.csv"), RUN).map_err(|e| e.to_string());
+        assert_eq!(
+            t.map(|t| t.title_name()),
+            Ok("m with joints.B.clearance=0.001".to_string())
+        );
+        let t = Table::parse(Path::new("dir/s.csv"), "# observe = B.fn\nf\n1\n");
+        assert_eq!(
+            t.map(|t| (t.title_name(), t.setting("observe"), t.setting("window")))
+                .map_err(|e| e.to_string()),
+            Ok(("s.csv".to_string(), Some("B.fn".to_string()), None))
         );
     }
 

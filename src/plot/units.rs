@@ -3,8 +3,10 @@
 
 /// The SI unit of an output column, from the last part of its name: `t` s; `.x .y .ex .ey
 /// .delta` m; `.phi` rad; `.vx .vy` m/s; `.omega` rad/s; `.ax .ay` m/s²; `.alpha` rad/s²;
-/// `.fx .fy .fn .ft` N; `.torque` N·m; `energy.*` J; `frequency_hz` Hz. `None` for a name
-/// without a known unit (a dimensionless or user-named column).
+/// `.fx .fy .fn .ft` N; `.torque` N·m; `energy.*` J; `frequency_hz` Hz. Swept model
+/// parameters (a bifurcation file's second column) by their field: `.clearance` m, `.mass` kg,
+/// `*_rpm` rpm, `*_hz` Hz (the model file's SI fields and its unit-suffixed ones). `None` for
+/// a name without a known unit (a dimensionless or user-named column).
 pub fn unit_of(column: &str) -> Option<&'static str> {
     if column == "t" {
         return Some("s");
@@ -12,12 +14,16 @@ pub fn unit_of(column: &str) -> Option<&'static str> {
     if column == "frequency_hz" || column.ends_with("_hz") {
         return Some("Hz");
     }
+    if column.ends_with("_rpm") {
+        return Some("rpm");
+    }
     if column.starts_with("energy.") {
         return Some("J");
     }
     let last = column.rsplit('.').next().unwrap_or(column);
     Some(match last {
-        "x" | "y" | "ex" | "ey" | "delta" => "m",
+        "x" | "y" | "ex" | "ey" | "delta" | "clearance" => "m",
+        "mass" => "kg",
         "phi" => "rad",
         "vx" | "vy" => "m/s",
         "omega" => "rad/s",
@@ -66,6 +72,9 @@ mod tests {
             ("O2.fy", Some("N")),
             ("motor.torque", Some("N·m")),
             ("frequency_hz", Some("Hz")),
+            ("joints.B.clearance", Some("m")),
+            ("drivers.motor.speed_rpm", Some("rpm")),
+            ("bodies.crank.mass", Some("kg")),
             ("amplitude", None),
             ("lambda", None),
         ] {

@@ -3,7 +3,7 @@
 //! [`WorkPrecisionReport`]. Failed cells and cells without a positive error are left out (a
 //! log axis cannot show them; the CSV and the markdown table list them).
 
-use super::{Axis, Figure, PlotError, Series, Style};
+use super::{Axis, Dash, Figure, PlotError, Series, Style};
 use crate::studies::workprecision::WorkPrecisionReport;
 
 /// Radius of the dot marking each tolerance (pixels).
@@ -32,15 +32,19 @@ pub fn workprecision(report: &WorkPrecisionReport) -> Result<Figure, PlotError> 
             label: "wall time (s)".into(),
             log: true,
             range: None,
+            min_span: None,
         },
         Axis {
             label: "largest body-angle error (rad)".into(),
             log: true,
             range: None,
+            min_span: None,
         },
     );
     let mut colour = 0;
-    for &kind in &report.options.formulations {
+    // One stroke per formulation, one colour per method line: the twelve lines differ in
+    // two ways, so that they stay apart where colours are hard to tell.
+    for (k, &kind) in report.options.formulations.iter().enumerate() {
         for &method in &report.options.methods {
             let mut points: Vec<(f64, f64, f64)> = report
                 .cells
@@ -59,12 +63,14 @@ pub fn workprecision(report: &WorkPrecisionReport) -> Result<Figure, PlotError> 
                     name: Some(format!("{kind} {method}")),
                     style: Style::Line,
                     colour,
+                    dash: Dash::nth(k),
                     points: xy.clone(),
                 });
                 fig.series.push(Series {
                     name: None,
                     style: Style::Dots { radius: DOT },
                     colour,
+                    dash: Dash::Solid,
                     points: xy,
                 });
             }

@@ -91,7 +91,7 @@ pub fn series(
         variant,
         panel,
         caption,
-        figures::series(&a, &[column.to_string()], Some(&b)),
+        figures::series(&[&a, &b], &[column.to_string()], &[]),
     )
 }
 
@@ -147,7 +147,7 @@ pub fn poincare(
         variant,
         panel,
         caption,
-        figures::poincare(&t, "B.ex", "B.ey"),
+        figures::poincare(&t, "B.ex", "B.ey", None),
     )
 }
 
@@ -177,7 +177,14 @@ pub fn spectrum(
         variant,
         panel,
         caption,
-        figures::spectrum(&t, true, Some(driving_hz)),
+        figures::spectrum(
+            &t,
+            &figures::SpectrumOptions {
+                log: true,
+                driving_hz: Some(driving_hz),
+                f_max: None,
+            },
+        ),
     )
 }
 
