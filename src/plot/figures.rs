@@ -23,10 +23,10 @@ const MM_PER_M: f64 = 1e3;
 const CIRCLE_POINTS: usize = 361;
 /// Most driving-frequency multiples marked (and labelled) on a spectrum: beyond about twenty
 /// the labels overlap and the lines become a grey wash, so wider ranges mark every k-th.
-const MAX_MARKS: usize = 20;
+pub const MAX_MARKS: usize = 20;
 /// Default upper frequency of a spectrum, in driving multiples: the harmonics that carry the
 /// motion of a linkage with clearance; above, the spectrum is the numerical floor.
-const DEFAULT_HARMONICS: f64 = 25.0;
+pub const DEFAULT_HARMONICS: f64 = 25.0;
 /// Smallest span of a Poincaré axis without a known clearance, relative to the largest
 /// magnitude on it: a converged point shows as a point, not as its round-off spread.
 const MIN_RELATIVE_SPAN: f64 = 1e-3;
