@@ -32,6 +32,7 @@ use super::integrator::{Attempt, ErrorWeights, Integrator, Rejection, Start, Tri
 use super::options::Method;
 use super::rk::{StepBuffers, first_non_finite};
 use super::stats::SolverStats;
+use super::step_cut::{crossed, cut_step, earliest_crossing};
 use crate::formulation::Formulation;
 
 /// Stiff steps (hλ beyond the stability boundary) after which the problem counts as stiff.
@@ -42,17 +43,6 @@ const NON_STIFF_STEPS: u32 = 6;
 /// (Hairer's codes: every 1000th; more often here so that the no-progress rule, which looks at
 /// 1000 attempts, already knows).
 const STIFF_TEST_EVERY: u64 = 16;
-/// A step is cut at an event crossing only if the crossing lies at a fraction θ of the step in
-/// [`MIN_CUT`, `MAX_CUT`): near either end the other law holds on a sliver only, and near the
-/// start a cut would shrink the step to that sliver (Radau5's bounds, `radau5/core.rs`).
-const MIN_CUT: f64 = 0.01;
-/// See [`MIN_CUT`].
-const MAX_CUT: f64 = 0.99;
-/// Halvings of the bisection for the crossing on the dense output (2⁻⁴⁰·h).
-const CUT_HALVINGS: usize = 40;
-/// The retry ends past the crossing by this fraction of the way to it (the retry's own
-/// crossing moves by its error).
-const CUT_OVERSHOOT: f64 = 1.001;
 
 /// What distinguishes one explicit pair from another: tableau, error norm, dense output.
 pub(crate) trait Pair {
@@ -285,22 +275,14 @@ impl<P: Pair> ExplicitRk<P> {
         }
         self.trial_dense = true;
         let ne = self.g_start.len();
-        let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
-        for _ in 0..CUT_HALVINGS {
-            let mid = 0.5 * (lo + hi);
+        let theta = earliest_crossing((0.0, 1.0), |mid| {
             P::eval_dense(mid, trial.y, &self.dense, &mut self.y_probe);
             f.events(trial.t + mid * trial.h, &self.y_probe, &mut self.g_mid);
-            if (0..ne).any(|i| crossed(self.g_start[i], self.g_mid[i])) {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        let h_cut = trial.h * hi * CUT_OVERSHOOT;
-        let floor = 64.0 * f64::EPSILON * trial.t.abs().max(trial.h.abs());
-        if !((MIN_CUT..MAX_CUT).contains(&hi) && h_cut > floor) {
+            (0..ne).any(|i| crossed(self.g_start[i], self.g_mid[i]))
+        });
+        let Some(h_cut) = cut_step(trial.t, trial.h, theta) else {
             return Ok(Cut::Keep);
-        }
+        };
         // The attempt is void: its FSAL stage counts as a dense-output call (the RHS identity
         // of `SolverStats` counts 11 per rejected DOP853 attempt), and its dense output is not
         // the step's.
@@ -541,11 +523,6 @@ impl<F: Formulation + ?Sized, P: Pair> Integrator<F> for ExplicitRk<P> {
         // dense-output stages are stored after them and leave both as they are.
         Some((self.k.first()?, self.k.get(P::FSAL)?))
     }
-}
-
-/// Whether a and b lie strictly on opposite sides of zero.
-fn crossed(a: f64, b: f64) -> bool {
-    (a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0)
 }
 
 /// The cubic Hermite interpolant at θ ∈ [0, 1] of a step of size h from (y0, f0) to (y1, f1).

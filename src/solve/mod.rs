@@ -105,6 +105,7 @@ pub mod radau5;
 pub mod record;
 mod rk;
 pub mod stats;
+mod step_cut;
 pub mod stepper;
 
 #[cfg(test)]

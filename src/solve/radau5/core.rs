@@ -14,6 +14,7 @@ use crate::formulation::Formulation;
 use crate::solve::SolveError;
 use crate::solve::integrator::{Attempt, Rejection};
 use crate::solve::stats::SolverStats;
+use crate::solve::step_cut::{crossed, cut_step, earliest_crossing};
 
 /// Unit roundoff as RADAU5 uses it (`UROUND`).
 const UROUND: f64 = 1e-16;
@@ -24,12 +25,6 @@ const FIXED_SCALE: f64 = 1e-13;
 /// remaining error is below 1e-15·(1 + |y_i|).
 const FIXED_NEWTON_TOL: f64 = 0.01;
 
-/// An attempt is cut at an event crossing only if the crossing lies at a fraction θ of the
-/// step in [`MIN_CUT`, `MAX_CUT`): near either end the other law holds on a sliver only, and
-/// near the start a cut would shrink the step to that sliver (see `Radau5Core::event_cut`).
-const MIN_CUT: f64 = 0.01;
-/// See [`MIN_CUT`].
-const MAX_CUT: f64 = 0.99;
 /// Why the core rejected an attempt: the driver's causes, and a cut at an event crossing
 /// (reported to the driver as an error-test failure).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -541,19 +536,13 @@ impl Radau5Core {
         // the same resolution was tried here: its cut points differ from these by less than
         // 2⁻⁴⁰, and that alone moved the reduced four-bar's error at 250 rpm, rtol 1e-8 from
         // 8.2e-9 to 2.4e-8 rad (docs/benchmarks.md, "Radau5").
-        let (mut lo, mut hi) = (-1.0_f64, 0.0_f64);
-        for _ in 0..40 {
-            let mid = 0.5 * (lo + hi);
+        let hi = earliest_crossing((-1.0, 0.0), |mid| {
             for k in 0..self.n {
                 self.y_stage[k] = y[k] + self.z[2][k] + self.poly_offset(k, mid);
             }
             f.events(t_new + mid * h, &self.y_stage, &mut self.g_mid);
-            if (0..ne).any(|i| crossed(self.g_start[i], self.g_mid[i])) {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
+            (0..ne).any(|i| crossed(self.g_start[i], self.g_mid[i]))
+        });
         let theta = 1.0 + hi;
         // Past the crossing by 0.1 % of the way to it (the retry's own crossing moves by its
         // error). A crossing in the last 1 % of the step is left as it is, and so is one in
@@ -562,9 +551,7 @@ impl Radau5Core {
         // of t when a step ends just short of a kink (farahan2016 reduced at 3500 rpm,
         // c = 0.4955 mm: θ = 3e-6, a cut to 2.1e-14 s, after which the controller proposed
         // 6.6e-15 s, below the driver's floor; docs/numerics.md, "Radau5 at events").
-        let h_cut = h * theta * 1.001;
-        let floor = 64.0 * f64::EPSILON * t.abs().max(h.abs());
-        ((MIN_CUT..MAX_CUT).contains(&theta) && h_cut.abs() > floor).then_some(h_cut)
+        cut_step(t, h, theta)
     }
 
     /// Whether an event function changes sign between (t, y) and the attempt's end
@@ -720,11 +707,6 @@ impl Radau5Core {
         }
         (sum / self.norms.n_controlled.max(1) as f64).sqrt()
     }
-}
-
-/// Whether a and b lie strictly on opposite sides of zero.
-fn crossed(a: f64, b: f64) -> bool {
-    (a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0)
 }
 
 /// Coefficients of the collocation polynomial through the stage increments z (CONTR5's
