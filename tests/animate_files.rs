@@ -6,13 +6,12 @@
 
 mod cli_common;
 
-use cli_common::scratch;
+use cli_common::{linkdyn_stderr, scratch};
 mod animate_common;
 
 use animate_common::{BODIES, farahan, pixel_of, point_at};
 use linkdyn::animate::{Animation, AnimationOptions, body_colour, gif, html, svg};
 use std::path::PathBuf;
-use std::process::Command;
 
 fn movie(size: (u32, u32)) -> (Animation, linkdyn::plot::Table) {
     let (model, run) = farahan(0.5);
@@ -203,24 +202,12 @@ fn gif_frames_show_the_bodies_where_the_trajectory_says() {
     }
 }
 
-const BIN: &str = env!("CARGO_BIN_EXE_linkdyn");
-
-fn linkdyn(args: &[&str]) -> (i32, String) {
-    match Command::new(BIN).args(args).output() {
-        Ok(o) => (
-            o.status.code().unwrap_or(-1),
-            String::from_utf8_lossy(&o.stderr).into_owned(),
-        ),
-        Err(e) => panic!("cannot start {BIN}: {e}"),
-    }
-}
-
 #[test]
 fn cli_animates_a_model_and_a_result_file() {
     let dir = scratch("cli");
     let s = |p: &PathBuf| p.display().to_string();
     let csv = dir.join("r.csv");
-    let (code, err) = linkdyn(&[
+    let (code, err) = linkdyn_stderr(&[
         "run",
         "models/farahan2016.toml",
         "--revs",
@@ -243,7 +230,7 @@ fn cli_animates_a_model_and_a_result_file() {
         if input.ends_with(".toml") {
             args.extend(["--revs", "0.25", "--dt", "1e-3"]);
         }
-        let (code, err) = linkdyn(&args);
+        let (code, err) = linkdyn_stderr(&args);
         assert_eq!(code, 0, "animate {input} → {out_s}: {err}");
         // 0.5 s at 10 fps: 6 frames over the 0.06 s of a quarter turn.
         assert!(
@@ -253,13 +240,13 @@ fn cli_animates_a_model_and_a_result_file() {
         let size = std::fs::metadata(&out).map(|m| m.len()).unwrap_or(0);
         assert!(size > 1000, "{out_s}: {size} bytes");
     }
-    let (code, err) = linkdyn(&["animate", &s(&csv), "--out", &s(&dir.join("x.mp4"))]);
+    let (code, err) = linkdyn_stderr(&["animate", &s(&csv), "--out", &s(&dir.join("x.mp4"))]);
     assert_eq!(code, 2, "unknown format: {err}");
     assert!(
         err.contains("unknown animation format (use a .html, .svg or .gif file name)"),
         "unknown format: `{err}`"
     );
-    let (code, err) = linkdyn(&[
+    let (code, err) = linkdyn_stderr(&[
         "animate",
         &s(&csv),
         "--revs",

@@ -2,7 +2,7 @@
 //! one-line message below (file, line:column, field, what was expected), never a panic.
 
 mod cli_common;
-use cli_common::linkdyn;
+use cli_common::{linkdyn, scratch};
 
 const CASES: &[(&str, &str)] = &[
     (
@@ -359,8 +359,7 @@ fn bad_set_overrides_are_refused_with_exit_code_2() {
 
 #[test]
 fn a_failed_run_writes_no_result_file() {
-    let dir = std::env::temp_dir().join(format!("linkdyn-bad-run-{}", std::process::id()));
-    let _ = std::fs::create_dir_all(&dir);
+    let dir = scratch("bad-run");
     let out = dir.join("r.csv");
     let out_s = out.display().to_string();
     // An rtol of zero is refused before anything runs.
@@ -382,8 +381,7 @@ fn a_failed_run_writes_no_result_file() {
 
 #[test]
 fn same_model_and_settings_give_identical_numbers() {
-    let dir = std::env::temp_dir().join(format!("linkdyn-repro-{}", std::process::id()));
-    let _ = std::fs::create_dir_all(&dir);
+    let dir = scratch("repro");
     let mut bodies = Vec::new();
     for k in 0..2 {
         let out = dir.join(format!("r{k}.csv"));
@@ -428,8 +426,7 @@ fn a_solver_failure_says_when_and_exits_with_code_3_leaving_no_files() {
     // θ2 = 2.550 rad (t = 0.0974 s at 250 rpm), and no motion can go on. The solver must stop
     // there with a message, not hang or write half a file. (The 0.4 m crank reaches a change
     // point instead (crank + ground = coupler + rocker), which the DAE passes: tests/no_progress.rs.)
-    let dir = std::env::temp_dir().join(format!("linkdyn-lock-{}", std::process::id()));
-    let _ = std::fs::create_dir_all(&dir);
+    let dir = scratch("lock");
     let out = dir.join("lock.csv");
     let (code, _, stderr) = linkdyn(&[
         "run",
@@ -472,8 +469,7 @@ fn a_linkage_driven_through_its_clearance_joint_stops_with_the_reason() {
     // Moving the crank's pivot point 1 m off its axis makes the reference four-bar unable to
     // turn: the driver pushes the journal through the bearing. Trial stages of too-large steps
     // that overshoot are retried smaller; only a real penetration beyond 0.1 R_J stops the run.
-    let dir = std::env::temp_dir().join(format!("linkdyn-deep-{}", std::process::id()));
-    let _ = std::fs::create_dir_all(&dir);
+    let dir = scratch("deep");
     let out = dir.join("deep.csv");
     let (code, _, stderr) = linkdyn(&[
         "run",

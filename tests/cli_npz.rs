@@ -4,23 +4,8 @@
 
 mod cli_common;
 
-use cli_common::scratch;
+use cli_common::{linkdyn_stderr, scratch};
 use std::path::Path;
-use std::process::Command;
-
-const BIN: &str = env!("CARGO_BIN_EXE_linkdyn");
-
-fn linkdyn(args: &[&str]) -> (i32, String) {
-    let out = Command::new(BIN)
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 fn u16_at(b: &[u8], k: usize) -> usize {
     u16::from_le_bytes([b[k], b[k + 1]]) as usize
@@ -70,10 +55,11 @@ fn npz_holds_the_csv_columns_bit_for_bit() {
     let dir = scratch("columns");
     let (csv, npz) = (dir.join("a.csv"), dir.join("b.npz"));
     let common = ["run", "models/farahan2016.toml", "--revs", "0.25", "--out"];
-    let (code, err) = linkdyn(&[&common[..], &[&csv.display().to_string()]].concat());
+    let (code, err) = linkdyn_stderr(&[&common[..], &[&csv.display().to_string()]].concat());
     assert_eq!(code, 0, "{err}");
     let npz_arg = npz.display().to_string();
-    let (code, err) = linkdyn(&[&common[..], &[npz_arg.as_str(), "--format", "npz"]].concat());
+    let (code, err) =
+        linkdyn_stderr(&[&common[..], &[npz_arg.as_str(), "--format", "npz"]].concat());
     assert_eq!(code, 0, "{err}");
 
     let text = std::fs::read_to_string(&csv).unwrap_or_default();
@@ -116,7 +102,7 @@ fn npz_holds_the_csv_columns_bit_for_bit() {
 fn a_failed_npz_run_leaves_nothing() {
     let dir = scratch("failed");
     let npz = dir.join("r.npz");
-    let (code, err) = linkdyn(&[
+    let (code, err) = linkdyn_stderr(&[
         "run",
         "models/farahan2016.toml",
         "--max-steps",

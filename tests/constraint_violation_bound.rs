@@ -4,11 +4,13 @@
 //! and the value, and the JSON's `max_constraint_violation` is the maximum over every step.
 //! The shipped models never come near the bound at any tolerance from 1e-4 to 1e-12.
 
+mod cli_common;
+
+use cli_common::{linkdyn, path_arg, scratch};
 use linkdyn::formulation::dae::violation_limit;
 use linkdyn::formulation::{Dae, DaeOptions, FormulationError, StepHooks, Tolerances};
 use linkdyn::simulation::{Discard, Simulation, SimulationOptions};
 use linkdyn::solve::{Method, SolveError, SolverOptions};
-use std::process::Command;
 
 /// The tolerances of the step-end checks below.
 const TOLERANCES: Tolerances = Tolerances {
@@ -26,34 +28,29 @@ fn a_drifting_run_stops_with_the_time_the_row_and_the_value() {
     // The reference four-bar with Baumgarte's stabilisation switched off and a loose tolerance:
     // nothing pulls the integration error of the positions back, the joints drift apart and
     // pass the bound 100·(rtol·L + atol) ≈ 2e-2 m (L = 0.96 m) within the first second.
-    let dir = std::env::temp_dir().join(format!("linkdyn-drift-{}", std::process::id()));
-    let _ = std::fs::create_dir_all(&dir);
+    let dir = scratch("drift");
     let out = dir.join("drift.csv");
-    let run = Command::new(env!("CARGO_BIN_EXE_linkdyn"))
-        .args([
-            "run",
-            "models/fourbar_ideal.toml",
-            "--set",
-            "settings.baumgarte.alpha=0",
-            "--set",
-            "settings.baumgarte.beta=0",
-            "--method",
-            "dopri5",
-            "--rtol",
-            "1e-4",
-            "--atol",
-            "1e-4",
-            "--revs",
-            "20",
-            "--dt",
-            "1e-2",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert_eq!(run.status.code(), Some(3), "{stderr}");
+    let (code, _, stderr) = linkdyn(&[
+        "run",
+        "models/fourbar_ideal.toml",
+        "--set",
+        "settings.baumgarte.alpha=0",
+        "--set",
+        "settings.baumgarte.beta=0",
+        "--method",
+        "dopri5",
+        "--rtol",
+        "1e-4",
+        "--atol",
+        "1e-4",
+        "--revs",
+        "20",
+        "--dt",
+        "1e-2",
+        "--out",
+        path_arg(&out),
+    ]);
+    assert_eq!(code, 3, "{stderr}");
     assert_eq!(
         stderr.trim_end(),
         "error: the equations of motion could not be evaluated at t = 2.003971632 s: constraint \"O4.y\" is violated by |Φ| = 2.001e-2 m at t = 2.003971632 s, beyond the bound 1.962e-2 m (min(0.1 L, 100·(rtol·L + atol)) with the length scale L = 9.624e-1 m and the controlled tolerances rtol = 1e-4, atol = 1e-4, at least the round-off floor 100 ε κ L with κ = 9.946e1): the motion no longer satisfies the joints; tighten rtol/atol, raise the Baumgarte factors, or check that the linkage can move as driven"
@@ -67,26 +64,21 @@ fn a_sample_between_step_ends_is_held_to_the_bound_too() {
     // At rtol 0.1, atol 1 every step end of the double pendulum passed the old check while the
     // dense output between them put samples 2.02 m off the joints (exit 0). The bound is the cap
     // 0.1 L = 0.1231 m here; the first sample beyond it, on the 1e-4 s output grid, stops the run.
-    let dir = std::env::temp_dir().join(format!("linkdyn-sample-drift-{}", std::process::id()));
-    let _ = std::fs::create_dir_all(&dir);
+    let dir = scratch("sample-drift");
     let out = dir.join("drift.csv");
-    let run = Command::new(env!("CARGO_BIN_EXE_linkdyn"))
-        .args([
-            "run",
-            "models/double_pendulum.toml",
-            "--t-end",
-            "2",
-            "--rtol",
-            "0.1",
-            "--atol",
-            "1",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert_eq!(run.status.code(), Some(3), "{stderr}");
+    let (code, _, stderr) = linkdyn(&[
+        "run",
+        "models/double_pendulum.toml",
+        "--t-end",
+        "2",
+        "--rtol",
+        "0.1",
+        "--atol",
+        "1",
+        "--out",
+        path_arg(&out),
+    ]);
+    assert_eq!(code, 3, "{stderr}");
     assert!(
         stderr.starts_with("error: the equations of motion could not be evaluated at t = 0.469000000 s: constraint \"A.x\" is violated by |Φ| = 1.233e-1 m at t = 0.469000000 s, beyond the bound 1.231e-1 m"),
         "{stderr}"

@@ -4,7 +4,9 @@
 //! the same times, and the same contact force and crank torque (to bounds that follow from the
 //! orbit's agreement).
 
+mod cli_common;
 mod common;
+use cli_common::{linkdyn, path_arg, scratch};
 use common::*;
 use linkdyn::analysis::compare;
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs, ReducedLagrangian};
@@ -134,31 +136,21 @@ fn reduced_formulation_refuses_another_topology_with_a_clear_reason() {
 
 #[test]
 fn compare_command_prints_and_writes_the_differences() {
-    let dir = std::env::temp_dir().join(format!("linkdyn-compare-{}", std::process::id()));
-    let _ = std::fs::create_dir_all(&dir);
+    let dir = scratch("compare");
     let json = dir.join("cmp.json");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_linkdyn"))
-        .args([
-            "compare",
-            "models/farahan2016.toml",
-            "--revs",
-            "0.25",
-            "--rtol",
-            "1e-10",
-            "--atol",
-            "1e-13",
-        ])
-        .arg("--out")
-        .arg(&json)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap_or_else(|e| panic!("{e}"));
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (code, stdout, stderr) = linkdyn(&[
+        "compare",
+        "models/farahan2016.toml",
+        "--revs",
+        "0.25",
+        "--rtol",
+        "1e-10",
+        "--atol",
+        "1e-13",
+        "--out",
+        path_arg(&json),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
     for column in [
         "coupler.phi",
         "rocker.phi",

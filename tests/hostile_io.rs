@@ -338,7 +338,7 @@ fn a_commit_killed_between_its_renames_is_completed_from_its_journal() {
         let _ = std::fs::write(dir.join(name), text);
     }
     // A command that reads the CSV meanwhile says that the files may be from two runs.
-    let png = std::env::temp_dir().join(format!("linkdyn-hostile-{}.png", std::process::id()));
+    let png = scratch("plot-meanwhile").join("p.png");
     let (_, _, stderr) = linkdyn(&["plot", "series", &s(&csv), "--y", "x", "--out", &s(&png)]);
     assert_eq!(
         stderr.lines().next(),

@@ -6,6 +6,7 @@
 //! the bound, exit 2/3/4 with nothing left in the output directory (see `hostile/mod.rs`).
 //! The long seeded run is `cargo run --release --example hostile -- --count 2000 --seed S`.
 
+mod cli_common;
 mod hostile;
 
 use proptest::prelude::*;
@@ -23,7 +24,7 @@ proptest! {
 
     #[test]
     fn a_mutated_model_never_panics_hangs_or_lies(seed in any::<u64>()) {
-        let scratch = std::env::temp_dir().join(format!("linkdyn-hostile-{}", std::process::id()));
+        let scratch = cli_common::scratch("mutant");
         let m = hostile::mutant(seed);
         let verdict = hostile::check(env!("CARGO_BIN_EXE_linkdyn").as_ref(), &scratch, &m);
         prop_assert!(verdict.is_ok(), "seed {} from {} with {:?} and {:?}: {}", m.seed, m.base, m.mutations, m.args, verdict.err().unwrap_or_default());

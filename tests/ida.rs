@@ -4,7 +4,9 @@
 //! solve comes back as the mapped error with the time and the reason, never a crash or a hang.
 #![cfg(feature = "ida")]
 
+mod cli_common;
 mod common;
+use cli_common::{linkdyn, path_arg, scratch};
 use common::*;
 use linkdyn::analysis::compare;
 use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
@@ -257,23 +259,20 @@ fn a_fixed_step_is_refused_by_name() {
 /// The CLI maps a failed IDA solve to exit code 3 with the time in the message.
 #[test]
 fn cli_exit_code_of_a_failed_ida_solve() {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_linkdyn"))
-        .args([
-            "run",
-            "models/farahan2016.toml",
-            "--method",
-            "ida",
-            "--revs",
-            "1",
-            "--max-steps",
-            "20",
-            "--out",
-        ])
-        .arg(std::env::temp_dir().join(format!("linkdyn-ida-exit-{}", std::process::id())))
-        .output()
-        .unwrap_or_else(|e| panic!("{e}"));
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(3), "exit code; stderr: {stderr}");
+    let out = scratch("exit").join("ida.csv");
+    let (code, _, stderr) = linkdyn(&[
+        "run",
+        "models/farahan2016.toml",
+        "--method",
+        "ida",
+        "--revs",
+        "1",
+        "--max-steps",
+        "20",
+        "--out",
+        path_arg(&out),
+    ]);
+    assert_eq!(code, 3, "exit code; stderr: {stderr}");
     assert!(
         stderr.contains("t = "),
         "the message names the time: {stderr}"

@@ -6,7 +6,7 @@
 mod cli_common;
 mod common;
 
-use cli_common::linkdyn;
+use cli_common::{linkdyn, scratch};
 use linkdyn::model::{JointKind, Model, idealise};
 use linkdyn::simulation::{Simulation, SimulationOptions, Trajectory};
 
@@ -92,8 +92,7 @@ fn unknown_or_ideal_joint_names_are_refused_naming_them() {
 /// the `#` provenance lines differ by design), and `--ideal X` exits 2 naming X.
 #[test]
 fn cli_ideal_flag_matches_the_ideal_file_and_refuses_unknown_joints() {
-    let dir = std::env::temp_dir().join(format!("linkdyn_ideal_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let dir = scratch("cli");
     let a = dir.join("a.csv");
     let b = dir.join("b.csv");
     let (a_s, b_s) = (a.to_string_lossy(), b.to_string_lossy());

@@ -8,7 +8,9 @@
 //! trajectory as one sampled every 1e-4 s: its sampled maxima are the true maxima of the same
 //! dense output up to the sampling error, which the test bounds from the samples themselves.
 
+mod cli_common;
 mod common;
+use cli_common::{linkdyn, path_arg, scratch};
 
 use linkdyn::formulation::{Dae, DaeOptions};
 use linkdyn::simulation::{
@@ -426,18 +428,10 @@ fn the_cost_of_the_peak_search_is_counted() {
 
 #[test]
 fn run_writes_the_impact_log_beside_the_csv_and_prints_permanent_contact() {
-    let dir = std::env::temp_dir().join(format!("linkdyn-impact-log-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::create_dir_all(&dir);
+    let dir = scratch("log");
     let out = dir.join("r.csv");
-    let result = std::process::Command::new(env!("CARGO_BIN_EXE_linkdyn"))
-        .args(["run", MODEL, "--revs", "2", "--out"])
-        .arg(&out)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    assert!(result.status.success(), "{stderr}");
+    let (code, _, stderr) = linkdyn(&["run", MODEL, "--revs", "2", "--out", path_arg(&out)]);
+    assert_eq!(code, 0, "{stderr}");
     assert!(
         stderr.contains("\ndriver motor: 250 rpm = 26.18 rad/s\n"),
         "the speed in both units: {stderr}"

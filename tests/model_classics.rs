@@ -6,14 +6,13 @@
 
 mod cli_common;
 mod common;
-use cli_common::linkdyn;
+use cli_common::{linkdyn, scratch};
 use common::*;
 use linkdyn::solve::Method;
 
 #[test]
 fn the_new_models_check_and_run() {
-    let dir = std::env::temp_dir().join(format!("linkdyn_classics_{}", std::process::id()));
-    let _ = std::fs::create_dir_all(&dir);
+    let dir = scratch("runs");
     for (model, extra) in [
         ("models/watt_sixbar.toml", vec!["--revs", "1"]),
         ("models/quick_return.toml", vec!["--revs", "1"]),

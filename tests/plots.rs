@@ -11,24 +11,9 @@
 
 mod cli_common;
 
-use cli_common::scratch;
+use cli_common::{linkdyn_stderr, scratch};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::sync::OnceLock;
-
-const BIN: &str = env!("CARGO_BIN_EXE_linkdyn");
-
-fn linkdyn(args: &[&str]) -> (i32, String) {
-    let out = Command::new(BIN)
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 fn s(p: &Path) -> String {
     p.display().to_string()
@@ -57,7 +42,7 @@ fn inputs() -> &'static Inputs {
             ("models/farahan2016.toml", &run),
             ("models/fourbar_ideal.toml", &ideal),
         ] {
-            let (code, err) = linkdyn(&[
+            let (code, err) = linkdyn_stderr(&[
                 "run",
                 model,
                 "--revs",
@@ -177,7 +162,7 @@ fn both_formats(dir: &Path, name: &str, args: &[&str], texts: &[&str]) -> String
         a.extend(args.iter().map(|s| s.to_string()));
         a.extend(["--out".into(), s(out)]);
         let a: Vec<&str> = a.iter().map(String::as_str).collect();
-        let (code, err) = linkdyn(&a);
+        let (code, err) = linkdyn_stderr(&a);
         assert_eq!(code, 0, "{name} → {}: {err}", out.display());
     }
     let bytes = std::fs::read(&png).unwrap_or_default();
@@ -297,7 +282,7 @@ fn orbit_clearance_comes_from_the_model_unless_given() {
 fn png_size_follows_the_size_option() {
     let i = inputs();
     let out = scratch("size").join("small.png");
-    let (code, err) = linkdyn(&[
+    let (code, err) = linkdyn_stderr(&[
         "plot",
         "lyapunov",
         &s(&i.lyapunov),
@@ -318,7 +303,7 @@ fn a_missing_column_exits_2_naming_file_and_column_and_keeps_the_old_figure() {
     let i = inputs();
     let dir = scratch("missing");
     let out = dir.join("fig.png");
-    let (code, err) = linkdyn(&["plot", "lyapunov", &s(&i.lyapunov), "--out", &s(&out)]);
+    let (code, err) = linkdyn_stderr(&["plot", "lyapunov", &s(&i.lyapunov), "--out", &s(&out)]);
     assert_eq!(code, 0, "{err}");
     let before = std::fs::read(&out).unwrap_or_default();
 
@@ -328,7 +313,7 @@ fn a_missing_column_exits_2_naming_file_and_column_and_keeps_the_old_figure() {
         .find(|l| !l.starts_with('#'))
         .unwrap_or_default()
         .to_string();
-    let (code, err) = linkdyn(&[
+    let (code, err) = linkdyn_stderr(&[
         "plot",
         "series",
         &s(&i.run),
@@ -343,7 +328,7 @@ fn a_missing_column_exits_2_naming_file_and_column_and_keeps_the_old_figure() {
         format!("error: {}: no column `B.zz` (columns: {header})", s(&i.run))
     );
     // The analysis formats need their own columns.
-    let (code, err) = linkdyn(&["plot", "spectrum", &s(&i.lyapunov), "--out", &s(&out)]);
+    let (code, err) = linkdyn_stderr(&["plot", "spectrum", &s(&i.lyapunov), "--out", &s(&out)]);
     assert_eq!(code, 2, "spectrum of a Lyapunov file: {err}");
     assert_eq!(
         err.trim_end(),
@@ -375,12 +360,12 @@ fn a_missing_column_exits_2_naming_file_and_column_and_keeps_the_old_figure() {
 fn unknown_kind_and_format_exit_2() {
     let i = inputs();
     let dir = scratch("unknown");
-    let (code, err) = linkdyn(&["plot", "histogram", &s(&i.run), "--out", "x.png"]);
+    let (code, err) = linkdyn_stderr(&["plot", "histogram", &s(&i.run), "--out", "x.png"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("unrecognized subcommand 'histogram'"), "{err}");
 
     let out = dir.join("fig.pdf");
-    let (code, err) = linkdyn(&["plot", "lyapunov", &s(&i.lyapunov), "--out", &s(&out)]);
+    let (code, err) = linkdyn_stderr(&["plot", "lyapunov", &s(&i.lyapunov), "--out", &s(&out)]);
     assert_eq!(code, 2, "{err}");
     assert_eq!(
         err.trim_end(),
@@ -397,7 +382,7 @@ fn an_unwritable_target_exits_4_and_leaves_nothing() {
     let i = inputs();
     let dir = scratch("unwritable");
     let out = dir.join("no-such-dir").join("fig.svg");
-    let (code, err) = linkdyn(&["plot", "lyapunov", &s(&i.lyapunov), "--out", &s(&out)]);
+    let (code, err) = linkdyn_stderr(&["plot", "lyapunov", &s(&i.lyapunov), "--out", &s(&out)]);
     assert_eq!(code, 4, "{err}");
     assert!(
         err.starts_with(&format!("error: cannot write {}: ", s(&out))),
@@ -434,7 +419,7 @@ fn svg_of(dir: &Path, name: &str, args: &[&str]) -> Result<String, (i32, String)
     a.extend(args);
     let out_s = s(&out);
     a.extend(["--out", &out_s]);
-    match linkdyn(&a) {
+    match linkdyn_stderr(&a) {
         (0, _) => Ok(std::fs::read_to_string(&out).unwrap_or_default()),
         failed => Err(failed),
     }

@@ -6,22 +6,16 @@
 //! where f64 angles are 1.2e-4 rad apart). Every shipped model passes (they are loaded by most
 //! tests), and the values near each bound that real linkages use are accepted.
 
-use std::process::Command;
+mod cli_common;
 
 /// `linkdyn check MODEL --set …` → (exit code, stderr).
-fn check(model: &str, sets: &[&str]) -> (Option<i32>, String) {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_linkdyn"));
-    cmd.arg("check").arg(model);
+fn check(model: &str, sets: &[&str]) -> (i32, String) {
+    let mut args = vec!["check", model];
     for s in sets {
-        cmd.arg("--set").arg(s);
+        args.extend(["--set", s]);
     }
-    let out = cmd
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr).trim_end().to_string(),
-    )
+    let (code, _, stderr) = cli_common::linkdyn(&args);
+    (code, stderr.trim_end().to_string())
 }
 
 #[test]
@@ -66,7 +60,7 @@ fn absurd_values_are_refused_with_the_field_the_range_and_why() {
     ];
     for (model, sets, expected) in cases {
         let (code, stderr) = check(model, sets);
-        assert_eq!(code, Some(2), "{sets:?}: {stderr}");
+        assert_eq!(code, 2, "{sets:?}: {stderr}");
         assert_eq!(stderr, expected, "{sets:?}");
     }
 }
@@ -83,6 +77,6 @@ fn values_real_linkages_use_near_the_bounds_are_accepted() {
     ];
     for sets in cases {
         let (code, stderr) = check("models/farahan2016.toml", sets);
-        assert_eq!(code, Some(0), "{sets:?}: {stderr}");
+        assert_eq!(code, 0, "{sets:?}: {stderr}");
     }
 }

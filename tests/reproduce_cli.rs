@@ -4,12 +4,11 @@
 
 mod cli_common;
 
-use cli_common::linkdyn;
+use cli_common::{linkdyn, scratch};
 
 #[test]
 fn an_existing_directory_without_a_report_is_refused_and_left_alone() {
-    let parent = std::env::temp_dir().join(format!("linkdyn-reproduce-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&parent);
+    let parent = scratch("refused");
     let out = parent.join("mine");
     std::fs::create_dir_all(&out).unwrap_or_else(|e| panic!("{e}"));
     std::fs::write(out.join("notes.txt"), "keep me").unwrap_or_else(|e| panic!("{e}"));

@@ -13,7 +13,9 @@
 //! by a classical Runge–Kutta method of our own with a fixed step of 10 µs: its error is
 //! O(h⁴) ≈ 1e-13 rad over the run, which the test checks by halving the step.
 
+mod cli_common;
 mod common;
+use cli_common::{linkdyn, path_arg, scratch};
 use common::*;
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Generalized, Outputs};
 use linkdyn::model::Model;
@@ -443,24 +445,19 @@ fn ida_passes_the_flat_positions_of_a_chain_of_three_parallelograms() {
 /// for the results (the joint reactions there are not unique).
 #[test]
 fn the_cli_warns_when_the_dae_passed_singular_positions() {
-    let dir = std::env::temp_dir().join(format!("linkdyn-singular-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let dir = scratch("notes");
     let out = dir.join("run.csv");
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_linkdyn"))
-        .args([
-            "run",
-            "tests/fixtures/parallelogram.toml",
-            "--t-end",
-            "1.0",
-            "--rtol",
-            "1e-10",
-        ])
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap_or_else(|e| panic!("{e}"));
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stderr}");
+    let (code, _, stderr) = linkdyn(&[
+        "run",
+        "tests/fixtures/parallelogram.toml",
+        "--t-end",
+        "1.0",
+        "--rtol",
+        "1e-10",
+        "--out",
+        path_arg(&out),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
     // Flat positions of the exact motion before t = 1 s: 3 (from `reference`).
     let ts: Vec<f64> = (0..=1000).map(|k| 1e-3 * k as f64).collect();
     let flats = passages(&reference(1, &ts, 1e-5));
@@ -484,23 +481,19 @@ fn the_cli_warns_when_the_dae_passed_singular_positions() {
         "{stderr}"
     );
     // The generalised formulation needs no such warning.
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_linkdyn"))
-        .args([
-            "run",
-            "tests/fixtures/parallelogram.toml",
-            "--t-end",
-            "1.0",
-            "--rtol",
-            "1e-6",
-            "--formulation",
-            "generalized",
-        ])
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap_or_else(|e| panic!("{e}"));
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(output.status.success(), "{stderr}");
+    let (code, _, stderr) = linkdyn(&[
+        "run",
+        "tests/fixtures/parallelogram.toml",
+        "--t-end",
+        "1.0",
+        "--rtol",
+        "1e-6",
+        "--formulation",
+        "generalized",
+        "--out",
+        path_arg(&out),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
     assert!(!stderr.contains("the DAE passed"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }

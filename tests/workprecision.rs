@@ -11,7 +11,7 @@ use linkdyn::studies::workprecision::{
 };
 
 mod cli_common;
-use cli_common::linkdyn;
+use cli_common::{linkdyn, scratch};
 
 const MODEL: &str = "models/fourbar_ideal.toml";
 /// Why the reduced formulation refuses the ideal four-bar.
@@ -123,8 +123,8 @@ fn split_csv(line: &str) -> Vec<String> {
 
 #[test]
 fn the_command_writes_csv_markdown_and_figures_whole() {
-    let dir = std::env::temp_dir().join(format!("linkdyn-workprecision-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    // A folder the command creates itself.
+    let dir = scratch("command").join("wp");
     let out = dir.to_string_lossy().into_owned();
     let (code, stdout, stderr) = linkdyn(&[
         "workprecision",

@@ -1,7 +1,7 @@
 //! Running the built `linkdyn` binary from the command-line tests.
 #![allow(dead_code)] // each test file uses some of these
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Runs `linkdyn ARGS…` in the crate root; returns (exit code, stdout, stderr). A process
@@ -19,6 +19,13 @@ pub fn linkdyn(args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// Runs `linkdyn ARGS…` as [`linkdyn`] does; returns (exit code, stderr), for the tests that
+/// read only what it says on stderr.
+pub fn linkdyn_stderr(args: &[&str]) -> (i32, String) {
+    let (code, _, stderr) = linkdyn(args);
+    (code, stderr)
+}
+
 /// A fresh, empty folder for one test's files: `<temp>/linkdyn-<test file>-<name>-<pid>`
 /// (the test file from the test binary's name, so that two files never share one).
 pub fn scratch(name: &str) -> PathBuf {
@@ -34,4 +41,10 @@ pub fn scratch(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
     dir
+}
+
+/// A path as one `linkdyn` argument (the test folders above are valid UTF-8).
+pub fn path_arg(path: &Path) -> &str {
+    path.to_str()
+        .unwrap_or_else(|| panic!("not UTF-8: {}", path.display()))
 }
