@@ -52,22 +52,18 @@ pub enum SchurSolver {
     Skyline,
 }
 
-/// One pair of row blocks that act on the same body: S_ij gets their weighted product.
+/// One pair of row blocks that act on the same body: S_ij gets their weighted product. Blocks
+/// are numbered 2k + side (side 0 = body a, 1 = body b of row k, caller's numbering), their
+/// index into [`Schur::weighted`] and the copied Jacobian blocks flattened: three small
+/// integers keep the list, walked at every evaluation, compact.
 #[derive(Debug, Clone, Copy)]
 struct Coupling {
-    /// Row whose weighted block enters (caller's numbering).
-    i: usize,
-    /// Row whose plain block enters.
-    j: usize,
-    /// Its index in the constraint rows, `active[j]` (looked up once: `active` is the same at
-    /// every call).
-    row_j: usize,
-    /// Block of row i: 0 = body a, 1 = body b.
-    side_i: u8,
-    /// Block of row j.
-    side_j: u8,
+    /// Block of row i whose weighted values enter.
+    block_i: u32,
+    /// Block of row j whose plain values enter.
+    block_j: u32,
     /// Where S_ij lands in the storage (lower triangle).
-    pos: usize,
+    pos: u32,
 }
 
 /// How S is stored and factored.
@@ -97,6 +93,9 @@ pub struct Schur {
     couplings: Vec<Coupling>,
     /// M⁻¹ times each row's two Jacobian blocks, from the last [`Schur::factor`].
     weighted: Vec<[[f64; 3]; 2]>,
+    /// Each row's two Jacobian blocks as of the last [`Schur::factor`], copied beside
+    /// `weighted` so that the couplings read both from two short arrays.
+    blocks: Vec<[[f64; 3]; 2]>,
     /// Diagonal position of each row (caller's numbering), for the shift of [`Schur::factor`].
     diagonal: Vec<usize>,
     /// Smallest raw pivot of the last [`Schur::factor_regularised`] over its row's diagonal
@@ -220,12 +219,9 @@ impl Schur {
         let couplings = pairs
             .iter()
             .map(|&(i, j, side_i, side_j)| Coupling {
-                i,
-                j,
-                row_j: active[j],
-                side_i,
-                side_j,
-                pos: position(i, j),
+                block_i: block_index(i, side_i),
+                block_j: block_index(j, side_j),
+                pos: to_u32(position(i, j)),
             })
             .collect();
         let diagonal = (0..m).map(|k| position(k, k)).collect();
@@ -234,6 +230,7 @@ impl Schur {
             storage,
             couplings,
             weighted: vec![[[0.0; 3]; 2]; m],
+            blocks: vec![[[0.0; 3]; 2]; m],
             diagonal,
             min_pivot_ratio: 1.0,
             added: vec![0.0; m],
@@ -318,9 +315,12 @@ impl Schur {
     ) -> Result<(), usize> {
         self.form(rows, active, inv_mass);
         let mut min_ratio = 1.0_f64;
+        // Positions whose `added` holds d + μ (turned into Δ below).
+        let mut seen = 0;
         let added = &mut self.added;
         let factored = match &mut self.storage {
             Storage::Dense { a } => cholesky::factor_with(a, self.m, |j, raw, diagonal| {
+                seen = j + 1;
                 regularised(&mut min_ratio, raw, diagonal, shift[j], &mut added[j])
             }),
             Storage::Skyline {
@@ -330,6 +330,7 @@ impl Schur {
                 values,
                 ..
             } => skyline_factor_with(first, start, values, |p, raw, diagonal| {
+                seen = p + 1;
                 regularised(
                     &mut min_ratio,
                     raw,
@@ -340,6 +341,16 @@ impl Schur {
             })
             .map_err(|p| perm[p]),
         };
+        // Δ = μ³/(d + μ)² for the rows factored, after the elimination rather than inside it,
+        // where the division held up the next row (the same expression, so the same value).
+        let rows_seen: &mut dyn Iterator<Item = usize> = match &self.storage {
+            Storage::Dense { .. } => &mut (0..seen),
+            Storage::Skyline { perm, .. } => &mut perm[..seen].iter().copied(),
+        };
+        for k in rows_seen {
+            let (mu, sum) = (shift[k], added[k]);
+            added[k] = shift_of(mu, sum);
+        }
         self.min_pivot_ratio = min_ratio;
         factored
     }
@@ -365,7 +376,7 @@ impl Schur {
     /// the storage (not factored).
     fn form(&mut self, rows: &[ConstraintRow], active: &[usize], inv_mass: &[f64]) {
         debug_assert_eq!(active.len(), self.m, "the rows given at construction");
-        for (w, &r) in self.weighted.iter_mut().zip(active) {
+        for ((w, plain), &r) in self.weighted.iter_mut().zip(&mut self.blocks).zip(active) {
             for (side, (body, jac)) in rows[r].blocks().into_iter().enumerate() {
                 w[side] = match body {
                     Some(b) => [
@@ -375,6 +386,7 @@ impl Schur {
                     ],
                     None => [0.0; 3],
                 };
+                plain[side] = *jac;
             }
         }
         let values = match &mut self.storage {
@@ -382,16 +394,11 @@ impl Schur {
             Storage::Skyline { values, .. } => values,
         };
         values.fill(0.0);
-        for p in &self.couplings {
-            let w = &self.weighted[p.i][p.side_i as usize];
-            debug_assert_eq!(active[p.j], p.row_j, "the rows given at construction");
-            let row_j = &rows[p.row_j];
-            let jac = if p.side_j == 0 {
-                &row_j.jac_a
-            } else {
-                &row_j.jac_b
-            };
-            values[p.pos] += w[0] * jac[0] + w[1] * jac[1] + w[2] * jac[2];
+        let (weighted, plain) = (self.weighted.as_flattened(), self.blocks.as_flattened());
+        for c in &self.couplings {
+            let w = &weighted[c.block_i as usize];
+            let jac = &plain[c.block_j as usize];
+            values[c.pos as usize] += w[0] * jac[0] + w[1] * jac[1] + w[2] * jac[2];
         }
     }
 
@@ -433,34 +440,65 @@ impl Schur {
     }
 }
 
+/// The index of block `side` of row k in the flattened per-row block arrays.
+fn block_index(k: usize, side: u8) -> u32 {
+    to_u32(2 * k + side as usize)
+}
+
+/// An index of the Schur structure as u32: constraint rows and stored entries stay far below
+/// 2³² (a model of 10⁶ rows would need terabytes for its envelope first).
+fn to_u32(k: usize) -> u32 {
+    u32::try_from(k).unwrap_or(u32::MAX)
+}
+
+/// Raw pivots above this multiple of their shift μ are used as they are by [`regularised`]:
+/// there μ³/(d + μ)² < 1e-18 d, which adding to d cannot change.
+const HEALTHY_PIVOT: f64 = 1e6;
+
 /// The pivot rule of [`Schur::factor_regularised`] for [`cholesky::factor_with`] and
 /// [`skyline_factor_with`]: the raw pivot d of a row (diagonal entry s, shift μ) becomes
 /// d + μ³/(d + μ)², `None` where d ≤ −μ or the result is not positive (NaN); `min_ratio` keeps
-/// the smallest d/s ([`Schur::min_pivot_ratio`]), `added` the shift μ³/(d + μ)² of the row
+/// the smallest d/s ([`Schur::min_pivot_ratio`]), `sum` gets d + μ, from which
+/// [`Schur::factor_regularised`] records the shift [`shift_of`] once the factor is done
 /// ([`Schur::regularisation`]).
 fn regularised(
     min_ratio: &mut f64,
     raw: f64,
     diagonal: f64,
     shift: f64,
-    added: &mut f64,
+    sum: &mut f64,
 ) -> Option<f64> {
-    *min_ratio = min_ratio.min(raw / diagonal);
-    let sum = raw + shift;
+    // A division only where the ratio may be a new minimum (rarely after the first rows):
+    // the test lets through every d/s below the minimum and a few rounding ties above it,
+    // which `min` then settles exactly as before.
+    let bound = *min_ratio * diagonal;
+    if raw <= bound + 1e-12 * bound.abs() {
+        *min_ratio = min_ratio.min(raw / diagonal);
+    }
+    *sum = raw + shift;
     // NaN fails too.
-    if sum.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+    if (*sum).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return None;
+    }
+    if raw > HEALTHY_PIVOT * shift {
+        // Δ < μ³/d² < 1e-18 d, below half an ulp of d: d + Δ rounds to d, so the pivot is d
+        // without waiting for a division (the next row's elimination waits for this pivot).
+        return Some(raw);
     }
     // μ³/(d + μ)²: a healthy pivot moves by a relative (μ/d)³, below half an ulp wherever
     // d ≳ 2e-3 D at μ = 1e-8 D, so regular linkages keep the arithmetic of the unregularised
     // solve bit for bit; a collapsed one (d → 0) becomes μ (at least 0.89 μ on the way).
-    *added = shift * shift * shift / (sum * sum);
-    let d = raw + *added;
+    let d = raw + shift_of(shift, *sum);
     if d.is_nan() || d <= 0.0 {
         None
     } else {
         Some(d)
     }
+}
+
+/// The shift Δ = μ³/(d + μ)² that [`regularised`] adds to a raw pivot d, from μ and d + μ.
+fn shift_of(mu: f64, sum: f64) -> f64 {
+    mu * mu * mu / (sum * sum)
 }
 
 /// Envelope Cholesky in place: row p of `values` (columns `first[p]..=p`) becomes row p of L,
@@ -483,53 +521,56 @@ fn skyline_factor_with(
     values: &mut [f64],
     mut pivot: impl FnMut(usize, f64, f64) -> Option<f64>,
 ) -> Result<(), usize> {
+    // L_pk is `values[base_p + k]` with base_p = start[p] − f_p (≥ 0: row p starts after p
+    // earlier rows of at least one entry each, and f_p ≤ p). Plain index loops: the envelope
+    // rows of a linkage hold about four entries, and the slices and zipped iterators of a
+    // general dot product cost more than the few products in them. Sums run from −0.0 in
+    // increasing k, as `Iterator::sum` does, so the factor is the same to the bit.
     for p in 0..first.len() {
         let fp = first[p];
-        let (done, rest) = values.split_at_mut(start[p]);
-        let row_p = &mut rest[..p - fp + 1];
+        let base_p = start[p] - fp;
         for j in fp..p {
             let fj = first[j];
-            let lo = fp.max(fj);
-            let row_j = &done[start[j]..start[j] + j - fj + 1];
-            let dot: f64 = row_p[lo - fp..j - fp]
-                .iter()
-                .zip(&row_j[lo - fj..j - fj])
-                .map(|(a, b)| a * b)
-                .sum();
-            row_p[j - fp] = (row_p[j - fp] - dot) * row_j[j - fj];
+            let base_j = start[j] - fj;
+            let mut dot = -0.0;
+            for k in fp.max(fj)..j {
+                dot += values[base_p + k] * values[base_j + k];
+            }
+            values[base_p + j] = (values[base_p + j] - dot) * values[base_j + j];
         }
-        let (off, diagonal) = row_p.split_at_mut(p - fp);
-        let s = diagonal[0];
-        let raw = s - off.iter().map(|x| x * x).sum::<f64>();
-        let Some(d) = pivot(p, raw, s) else {
+        let mut squares = -0.0;
+        for k in fp..p {
+            squares += values[base_p + k] * values[base_p + k];
+        }
+        let s = values[base_p + p];
+        let Some(d) = pivot(p, s - squares, s) else {
             return Err(p);
         };
-        diagonal[0] = 1.0 / d.sqrt();
+        values[base_p + p] = 1.0 / d.sqrt();
     }
     Ok(())
 }
 
-/// Solves L Lᵀ x = b in place with L from [`skyline_factor`].
+/// Solves L Lᵀ x = b in place with L from [`skyline_factor`] (indexing as there).
 fn skyline_solve(first: &[usize], start: &[usize], values: &[f64], x: &mut [f64]) {
     for p in 0..first.len() {
         let fp = first[p];
-        let row = &values[start[p]..start[p + 1]];
-        let dot: f64 = row[..p - fp]
-            .iter()
-            .zip(&x[fp..p])
-            .map(|(a, b)| a * b)
-            .sum();
-        x[p] = (x[p] - dot) * row[p - fp];
+        let base = start[p] - fp;
+        let mut dot = -0.0;
+        for k in fp..p {
+            dot += values[base + k] * x[k];
+        }
+        x[p] = (x[p] - dot) * values[base + p];
     }
     // Lᵀ x = y by columns of Lᵀ (rows of L): x_p is final once the rows below have been
     // subtracted, then scattered into the rows it couples to.
     for p in (0..first.len()).rev() {
         let fp = first[p];
-        let row = &values[start[p]..start[p + 1]];
-        let xp = x[p] * row[p - fp];
+        let base = start[p] - fp;
+        let xp = x[p] * values[base + p];
         x[p] = xp;
-        for (xk, l) in x[fp..p].iter_mut().zip(&row[..p - fp]) {
-            *xk -= l * xp;
+        for k in fp..p {
+            x[k] -= values[base + k] * xp;
         }
     }
 }

@@ -241,7 +241,7 @@ pub fn assemble(
 /// The least-norm machinery of one assembly: the dense one of the module doc, or the sparse
 /// [`RowBasis`] with its step buffer.
 enum Steps {
-    Dense(Schur),
+    Dense(Box<Schur>),
     Sparse {
         basis: Box<RowBasis>,
         step: Vec<f64>,
@@ -306,7 +306,7 @@ fn assemble_steps(
         }
     } else {
         let all: Vec<usize> = (0..m).collect();
-        Steps::Dense(Schur::new(&eval.rows, &all, normal))
+        Steps::Dense(Box::new(Schur::new(&eval.rows, &all, normal)))
     };
     while residual > POSITION_TOLERANCE && iterations < MAX_ITERATIONS {
         iterations += 1;
