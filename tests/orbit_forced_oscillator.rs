@@ -60,8 +60,14 @@ fn the_orbit_is_the_steady_state_and_the_multipliers_are_exp_lambda_t() {
         .rtol(1e-11)
         .atol(1e-13);
     // Shooting from rest at t0 = 0: a guess far from the orbit (amplitude ~0.45 m).
-    let orbit = periodic_orbit(&Forced, 0.0, &[0.0, 0.0], &OrbitOptions::new(period), &solver)
-        .unwrap_or_else(|e| panic!("{e}"));
+    let orbit = periodic_orbit(
+        &Forced,
+        0.0,
+        &[0.0, 0.0],
+        &OrbitOptions::new(period),
+        &solver,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     let d = OMEGA0 * OMEGA0 - W * W;
     let c = 2.0 * ZETA * OMEGA0 * W;
     let amplitude = FORCE / d.hypot(c);

@@ -27,8 +27,8 @@ pub mod sweep;
 pub use compare::{ColumnDifference, Comparison, Sampled, compare};
 pub use error::AnalysisError;
 pub use lyapunov::{LyapunovEstimate, LyapunovOptions, largest_lyapunov};
-pub use period::{PeriodAnalysis, PeriodOptions, PeriodVerdict, period_verdict};
 pub use orbit::{OrbitOptions, PeriodicOrbit, periodic_orbit};
+pub use period::{PeriodAnalysis, PeriodOptions, PeriodVerdict, period_verdict};
 pub use phase::{PhasePortrait, RateSource, phase_portrait};
 pub use poincare::{
     PoincareSection, SectionOptions, SettledSection, Settling, section_outputs,

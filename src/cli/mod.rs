@@ -156,9 +156,7 @@ impl From<Error> for Failure {
                 AnalysisError::Solve { .. }
                 | AnalysisError::Outputs { .. }
                 | AnalysisError::NoConvergence { .. },
-            ) => {
-                EXIT_SOLVER
-            }
+            ) => EXIT_SOLVER,
             Error::Analysis(_) => EXIT_BAD_INPUT,
         };
         Failure {

@@ -167,7 +167,8 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
             source,
         })
     };
-    let (guess, guess_stats) = integrate_to(&mut f, t0, &y_start, t_section, &solver).map_err(solve)?;
+    let (guess, guess_stats) =
+        integrate_to(&mut f, t0, &y_start, t_section, &solver).map_err(solve)?;
     let found = periodic_orbit(&f, t_section, &guess, &OrbitOptions::new(period), &solver)?;
 
     // One period from the orbit, for its samples, impacts and gap.
@@ -213,9 +214,7 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
     let fmt = crate::numbers::format_number;
     let mut provenance = sim.provenance();
     provenance.settings.remove("t_end");
-    provenance
-        .settings
-        .insert("period_s".into(), fmt(period));
+    provenance.settings.insert("period_s".into(), fmt(period));
     provenance.settings.insert(
         "guess_from_turn".into(),
         request.guess_from_turn.to_string(),

@@ -83,10 +83,11 @@ pub fn saltation_matrix<F: Formulation + Clone>(
     let n = before.len();
     let rhs = |y: &[f64]| -> Result<Vec<f64>, SaltationError> {
         let mut dy = vec![0.0; n];
-        f.rhs(t, y, &mut dy).map_err(|e: FormulationError| SaltationError::Rhs {
-            t,
-            reason: e.to_string(),
-        })?;
+        f.rhs(t, y, &mut dy)
+            .map_err(|e: FormulationError| SaltationError::Rhs {
+                t,
+                reason: e.to_string(),
+            })?;
         Ok(dy)
     };
     let f_minus = rhs(before)?;
@@ -209,7 +210,10 @@ mod tests {
     fn close(s: &[f64], want: &[f64], case: &str) {
         for (k, (a, b)) in s.iter().zip(want).enumerate() {
             // Central differences of smooth maps with a 1e-5 step: ~1e-10.
-            assert!((a - b).abs() < 1e-8, "{case}: S[{k}] = {a}, closed form {b}");
+            assert!(
+                (a - b).abs() < 1e-8,
+                "{case}: S[{k}] = {a}, closed form {b}"
+            );
         }
     }
 
@@ -231,7 +235,11 @@ mod tests {
         let after = [0.0, -0.3, 0.0];
         let s = saltation_matrix(&Store, t, &before, &after, 0, Crossing::Falling, 1.0)
             .unwrap_or_else(|e| panic!("{e}"));
-        assert_eq!(s, [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0], "separation");
+        assert_eq!(
+            s,
+            [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+            "separation"
+        );
     }
 
     #[test]

@@ -228,8 +228,10 @@ pub fn periodic_orbit<F: Formulation + Clone>(
         .iter()
         .filter(|&&i| !controlled[i] && shot.cleared[i])
         .count();
-    let (mu, structural) =
-        split_trivial(multipliers(&restricted(&shot.monodromy, n, &active)), cleared_active);
+    let (mu, structural) = split_trivial(
+        multipliers(&restricted(&shot.monodromy, n, &active)),
+        cleared_active,
+    );
     Ok(PeriodicOrbit {
         t0,
         period: options.period,
