@@ -180,7 +180,7 @@ fn the_monodromy_matrix_matches_finite_differences_with_and_without_contact() {
         t0,
         &y0,
         t0 + PERIOD,
-        PERIOD / 6.283,
+        PERIOD / std::f64::consts::TAU,
         &solver(1e-10),
         "test",
     )

@@ -215,7 +215,7 @@ pub fn periodic_orbit<F: Formulation + Clone>(
             halvings += 1;
         }
     }
-    if !(rho <= options.closing_limit) {
+    if rho.is_nan() || rho > options.closing_limit {
         return Err(fail(
             format!(
                 "Newton's steps fell below {} integration tolerances but the orbit closes only to {rho:.3e} of them (above {:e}): the period map is not smooth enough at this tolerance; tighten rtol",
