@@ -288,7 +288,7 @@ impl Simulation {
 
     /// The reduced formulation this simulation integrates (as built, at its initial state), or
     /// `None` for the DAE and the generalised formulation: for analyses written for it alone
-    /// ([`crate::studies::orbit`]).
+    /// ([`crate::studies::orbit()`]).
     pub fn reduced_formulation(&self) -> Option<&ReducedLagrangian> {
         match &self.formulation {
             Built::Reduced(f) => Some(f),
