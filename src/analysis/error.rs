@@ -107,6 +107,21 @@ pub enum AnalysisError {
         expected: f64,
     },
 
+    /// Newton's method for a periodic orbit stopped without one: the residual history says
+    /// how close it came.
+    #[error(
+        "{analysis}: no periodic orbit found: {reason}; residual max|P(x) - x| by iteration, in units of the integration tolerance: {}",
+        list_residuals(history)
+    )]
+    NoConvergence {
+        /// Which analysis ("periodic orbit").
+        analysis: &'static str,
+        /// Why Newton's method stopped.
+        reason: String,
+        /// The residual of each iterate (units of the integration tolerance).
+        history: Vec<f64>,
+    },
+
     /// Finished points read back for `--resume` that do not belong to the shard being resumed.
     #[error(
         "resume: point {index} is not in shard {shard} (the partial results belong to another shard or sweep)"
@@ -140,6 +155,12 @@ fn list_indices(indices: &[usize]) -> String {
         s.push_str(&format!(" and {} more", indices.len() - LISTED));
     }
     s
+}
+
+/// The residuals as `3.2e5, 1.1e2, …`.
+fn list_residuals(history: &[f64]) -> String {
+    let shown: Vec<String> = history.iter().map(|r| format!("{r:.3e}")).collect();
+    shown.join(", ")
 }
 
 /// How many indices an error message lists before summarising the rest.

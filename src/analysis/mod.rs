@@ -9,6 +9,7 @@
 //! | [`poincare`] | stroboscopic Poincaré section of a driven formulation |
 //! | [`period`] | period-k verdict on a sequence of Poincaré points |
 //! | [`lyapunov`] | largest Lyapunov exponent (two trajectories, renormalisation) |
+//! | [`orbit`] | periodic orbits by shooting, monodromy with saltation, Floquet multipliers |
 //! | [`phase`] | phase-portrait data (value against rate) |
 //! | [`sweep`] | parameter-sweep bookkeeping: grid, shards, resume, merge, parallel map |
 //! | [`error`] | [`AnalysisError`] |
@@ -16,6 +17,7 @@
 pub mod compare;
 pub mod error;
 pub mod lyapunov;
+pub mod orbit;
 pub mod period;
 pub mod phase;
 pub mod poincare;
@@ -25,6 +27,7 @@ pub mod sweep;
 pub use compare::{ColumnDifference, Comparison, Sampled, compare};
 pub use error::AnalysisError;
 pub use lyapunov::{LyapunovEstimate, LyapunovOptions, largest_lyapunov};
+pub use orbit::{OrbitOptions, PeriodicOrbit, periodic_orbit};
 pub use period::{PeriodAnalysis, PeriodOptions, PeriodVerdict, period_verdict};
 pub use phase::{PhasePortrait, RateSource, phase_portrait};
 pub use poincare::{

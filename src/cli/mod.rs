@@ -15,6 +15,7 @@ mod compare;
 mod interrupt;
 mod lyapunov;
 mod merge;
+mod orbit;
 mod phase;
 mod plot;
 mod poincare;
@@ -61,6 +62,8 @@ enum Command {
     Phase(phase::PhaseArgs),
     /// Largest Lyapunov exponent (CSV `t,lambda` of its convergence), printed with its error.
     Lyapunov(lyapunov::LyapunovArgs),
+    /// Periodic orbit by shooting, with its Floquet multipliers (F.json, one period in F.csv).
+    Orbit(orbit::OrbitArgs),
     /// Draw a figure (PNG or SVG) from result CSV files: series, orbit, poincare, bifurcation,
     /// spectrum, phase, lyapunov.
     Plot(plot::PlotArgs),
@@ -149,9 +152,11 @@ impl From<Error> for Failure {
             Error::Solve(_) => EXIT_SOLVER,
             Error::Output(o) if o.is_bad_input() => EXIT_BAD_INPUT,
             Error::Output(_) => EXIT_OUTPUT,
-            Error::Analysis(AnalysisError::Solve { .. } | AnalysisError::Outputs { .. }) => {
-                EXIT_SOLVER
-            }
+            Error::Analysis(
+                AnalysisError::Solve { .. }
+                | AnalysisError::Outputs { .. }
+                | AnalysisError::NoConvergence { .. },
+            ) => EXIT_SOLVER,
             Error::Analysis(_) => EXIT_BAD_INPUT,
         };
         Failure {
@@ -270,6 +275,7 @@ pub fn main() -> ExitCode {
         Command::Spectrum(args) => spectrum::run(&args),
         Command::Phase(args) => phase::run(&args),
         Command::Lyapunov(args) => lyapunov::run(&args),
+        Command::Orbit(args) => orbit::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Stress(args) => stress::run(&args),

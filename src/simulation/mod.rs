@@ -286,6 +286,16 @@ impl Simulation {
         Ok(summary)
     }
 
+    /// The reduced formulation this simulation integrates (as built, at its initial state), or
+    /// `None` for the DAE and the generalised formulation: for analyses written for it alone
+    /// ([`crate::studies::orbit()`]).
+    pub fn reduced_formulation(&self) -> Option<&ReducedLagrangian> {
+        match &self.formulation {
+            Built::Reduced(f) => Some(f),
+            _ => None,
+        }
+    }
+
     /// Runs and keeps every sample in memory.
     pub fn run_to_memory(&self) -> Result<Trajectory> {
         let mut columns = Columns::with_capacity(self.names.len(), self.expected_samples());

@@ -1,0 +1,344 @@
+//! A periodic orbit of a model (`linkdyn orbit`): the guess from a few driver turns of
+//! integration, the shooting ([`crate::analysis::orbit`]), its state as named output columns,
+//! its stability, and one period of it sampled for the CSV.
+//!
+//! Supported: the reduced formulation (the four-bar with one clearance joint), whose driver
+//! angle is time-like and whose only bookkeeping state is the stored impact velocity. The DAE
+//! keeps the driven crank's coordinates and the Baumgarte-stabilised constraint directions in
+//! its state (their multipliers would have to be told from the motion's), and the generalised
+//! formulation projects its state at step ends; both are refused with that reason
+//! (docs/periodic_orbits.md, "What is not done").
+
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::analysis::orbit::{OrbitOptions, periodic_orbit};
+use crate::error::{Error, Result};
+use crate::formulation::{Crossing, Formulation, Outputs};
+use crate::model::Model;
+use crate::simulation::{
+    EndTime, FormulationKind, Provenance, Simulation, SimulationOptions, analyses,
+};
+use crate::solve::{self, DenseStep, EventRecord, Sink, SolveError, SolverStats, Stepper, Stop};
+
+/// The period asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OrbitPeriod {
+    /// K turns of the model's single driver.
+    Turns(usize),
+    /// S seconds.
+    Seconds(f64),
+}
+
+/// What `linkdyn orbit` asks for.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrbitRequest {
+    /// Formulation and solver (the end time is the orbit's own and is ignored).
+    pub options: SimulationOptions,
+    /// The period.
+    pub period: OrbitPeriod,
+    /// Periods integrated from the initial state before the shooting starts (its guess); the
+    /// section is at the end of them.
+    pub guess_from_turn: usize,
+    /// Output interval of the orbit's samples (s).
+    pub dt: f64,
+}
+
+/// The result of [`orbit`]: the keys of `F.json` (docs/periodic_orbits.md, "Output").
+#[derive(Debug, Clone, Serialize)]
+pub struct OrbitResult {
+    /// True: an orbit that failed to converge is an error, never a result.
+    pub converged: bool,
+    /// max_i |P(x)_i − x_i|/ε_i over the unknowns of each Newton iterate (ε_i = atol +
+    /// rtol·|x_i|), the last one the orbit's.
+    pub residual_history: Vec<f64>,
+    /// Newton iterations done.
+    pub newton_iterations: usize,
+    /// The output columns at the section, by name.
+    pub state: BTreeMap<String, f64>,
+    /// Time of the section (s): the start of the period.
+    pub t_section_s: f64,
+    /// Period (s).
+    pub period_s: f64,
+    /// Period in driver turns, for a model with one driver.
+    pub period_turns: Option<f64>,
+    /// Nontrivial Floquet multipliers [re, im], by decreasing modulus.
+    pub floquet_multipliers: Vec<[f64; 2]>,
+    /// Multipliers removed as trivial (inactive bookkeeping states: exactly 0 or 1).
+    pub trivial_multipliers: usize,
+    /// Every nontrivial |μ| < 1.
+    pub stable: bool,
+    /// Largest |μ|.
+    pub spectral_radius: f64,
+    /// Impacts (contact onsets) over one period, all clearance joints.
+    pub impacts_per_period: usize,
+    /// Smallest gap c − |e| over one period and every clearance joint (m), at the step ends and
+    /// samples of the orbit's integration; negative: the deepest penetration. `None` without
+    /// clearance joints.
+    pub min_gap_m: Option<f64>,
+    /// max_i |P(x)_i − x_i|/ε_i of the orbit returned, from one period integrated from it.
+    pub closing_error: f64,
+    /// Wall time of the guess, the shooting and the orbit's samples (s).
+    pub wall_time_s: f64,
+    /// Cost of every integration (guess, shooting, samples), summed.
+    pub solver_stats: SolverStats,
+    /// What made the result.
+    pub provenance: Provenance,
+    /// Output column names of the samples (the CSV's header after `t`).
+    #[serde(skip)]
+    pub names: Vec<String>,
+    /// One period of the orbit: (t, output columns) on the output grid.
+    #[serde(skip)]
+    pub samples: Vec<(f64, Vec<f64>)>,
+}
+
+/// Finds the periodic orbit of `model` asked for by `request` (module documentation).
+///
+/// Errors: [`Error::Settings`] for a formulation other than the reduced one, a bad period
+/// (`period_turns` or `period`), or a bad output interval (`dt`);
+/// [`Error::Analysis`] when Newton's method finds no orbit (the message has the residual
+/// history) or an integration fails.
+pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
+    let started = Instant::now();
+    let (period, period_turns) = match request.period {
+        OrbitPeriod::Turns(k) => {
+            let omega = analyses::driver_speed(model, "period_turns")?;
+            if k == 0 {
+                return Err(Error::settings(
+                    "period_turns",
+                    "expected a whole number of driver turns ≥ 1, got 0",
+                ));
+            }
+            (k as f64 * std::f64::consts::TAU / omega, Some(k as f64))
+        }
+        OrbitPeriod::Seconds(s) if s.is_finite() && s > 0.0 => (
+            s,
+            analyses::driver_speed(model, "period")
+                .ok()
+                .map(|w| s * w / std::f64::consts::TAU),
+        ),
+        OrbitPeriod::Seconds(s) => {
+            return Err(Error::settings(
+                "period",
+                format!("expected a finite period > 0 s, got {s}"),
+            ));
+        }
+    };
+    if request.options.formulation != FormulationKind::Reduced {
+        return Err(Error::settings(
+            "formulation",
+            format!(
+                "periodic orbits are computed with the reduced formulation only (the {} formulation keeps constrained coordinates in its state{}); use `formulation` reduced",
+                request.options.formulation,
+                if request.options.formulation == FormulationKind::Dae {
+                    ", whose Baumgarte-stabilised directions would add multipliers of their own"
+                } else {
+                    " and projects it at every step end, which the variational equations do not follow"
+                }
+            ),
+        ));
+    }
+    let guess_end = request.guess_from_turn as f64 * period;
+    let sim = Simulation::new(
+        model,
+        SimulationOptions {
+            end: EndTime::Seconds(guess_end.max(period)),
+            dt: request.dt,
+            ..request.options.clone()
+        },
+    )?;
+    let Some(reduced) = sim.reduced_formulation() else {
+        return Err(Error::settings(
+            "formulation",
+            "the simulation did not build the reduced formulation",
+        ));
+    };
+    let solver = sim.solver_options().clone();
+    let mut f = reduced.clone();
+    let t0 = f.t0();
+    let y_start = f.initial_state();
+    let t_section = t0 + guess_end;
+    let solve = |source| {
+        Error::Analysis(crate::analysis::AnalysisError::Solve {
+            analysis: "periodic orbit (guess)",
+            source,
+        })
+    };
+    let (guess, guess_stats) =
+        integrate_to(&mut f, t0, &y_start, t_section, &solver).map_err(solve)?;
+    let found = periodic_orbit(&f, t_section, &guess, &OrbitOptions::new(period), &solver)?;
+
+    // One period from the orbit, for its samples, impacts and gap.
+    let names = f.output_names();
+    let n_joints = sim.clearance_joints().len();
+    let mut record = Record {
+        names: names.len(),
+        row: Vec::new(),
+        samples: Vec::new(),
+        impacts: 0,
+        n_joints,
+        min_gap: None,
+        end: vec![0.0; f.n_states()],
+        g: vec![0.0; f.n_events()],
+    };
+    let mut copy = f.clone();
+    let stats = solve::integrate(
+        &mut copy,
+        t_section,
+        &found.y0,
+        t_section + period,
+        request.dt,
+        &solver,
+        &mut record,
+    )
+    .map_err(solve)?;
+    let mut state = BTreeMap::new();
+    let mut row = Vec::new();
+    f.outputs_into(t_section, &found.y0, &mut row)?;
+    for (name, value) in names.iter().zip(&row) {
+        state.insert(name.clone(), *value);
+    }
+    let mut total = guess_stats;
+    for s in [&found.stats, &stats] {
+        add_stats(&mut total, s);
+    }
+    let stable = found.stable();
+    let spectral_radius = found
+        .multipliers
+        .iter()
+        .map(|z| z[0].hypot(z[1]))
+        .fold(0.0, f64::max);
+    let fmt = crate::numbers::format_number;
+    let mut provenance = sim.provenance();
+    provenance.settings.remove("t_end");
+    provenance.settings.insert("period_s".into(), fmt(period));
+    provenance.settings.insert(
+        "guess_from_turn".into(),
+        request.guess_from_turn.to_string(),
+    );
+    Ok(OrbitResult {
+        converged: true,
+        residual_history: found.residual_history,
+        newton_iterations: found.iterations,
+        state,
+        t_section_s: t_section,
+        period_s: period,
+        period_turns,
+        floquet_multipliers: found.multipliers,
+        trivial_multipliers: found.trivial_multipliers,
+        stable,
+        spectral_radius,
+        impacts_per_period: record.impacts,
+        min_gap_m: record.min_gap,
+        closing_error: found.closing_error,
+        wall_time_s: started.elapsed().as_secs_f64(),
+        solver_stats: total,
+        provenance,
+        names,
+        samples: record.samples,
+    })
+}
+
+/// Integrates `f` from (t0, y0) to t1; returns y(t1) and the cost.
+fn integrate_to<F: Formulation>(
+    f: &mut F,
+    t0: f64,
+    y0: &[f64],
+    t1: f64,
+    solver: &solve::SolverOptions,
+) -> std::result::Result<(Vec<f64>, SolverStats), SolveError> {
+    let mut y = y0.to_vec();
+    if t1 <= t0 {
+        return Ok((y, SolverStats::default()));
+    }
+    let mut stepper = Stepper::new(f, t0, y0, t1, solver)?;
+    while stepper.step()? != Stop::EndReached {}
+    stepper.interpolate(t1, &mut y)?;
+    Ok((y, stepper.stats().clone()))
+}
+
+/// The orbit's samples, its impacts and its smallest gap (event k < `n_joints` is joint k's
+/// penetration δ, so the gap is −g_k).
+struct Record {
+    names: usize,
+    row: Vec<f64>,
+    samples: Vec<(f64, Vec<f64>)>,
+    impacts: usize,
+    n_joints: usize,
+    min_gap: Option<f64>,
+    end: Vec<f64>,
+    g: Vec<f64>,
+}
+
+impl Record {
+    fn gap<F: Formulation>(&mut self, f: &F, t: f64, y: &[f64]) {
+        if self.n_joints == 0 {
+            return;
+        }
+        f.events(t, y, &mut self.g);
+        for delta in self.g.iter().take(self.n_joints) {
+            let gap = -delta;
+            self.min_gap = Some(self.min_gap.map_or(gap, |m: f64| m.min(gap)));
+        }
+    }
+}
+
+impl<F: Formulation + Outputs> Sink<F> for Record {
+    fn sample(&mut self, f: &F, t: f64, y: &[f64]) -> std::result::Result<(), SolveError> {
+        f.outputs_into(t, y, &mut self.row)
+            .map_err(|e| SolveError::Sink {
+                t,
+                reason: format!("the outputs could not be evaluated: {e}"),
+            })?;
+        debug_assert_eq!(self.row.len(), self.names, "one value per output column");
+        self.samples.push((t, self.row.clone()));
+        self.gap(f, t, y);
+        Ok(())
+    }
+
+    fn event(
+        &mut self,
+        _f: &F,
+        event: &EventRecord,
+        _y_before: &[f64],
+        _y_after: &[f64],
+    ) -> std::result::Result<(), SolveError> {
+        if event.index < self.n_joints && event.crossing == Crossing::Rising {
+            self.impacts += 1;
+        }
+        Ok(())
+    }
+
+    fn on_step(&mut self, step: &mut DenseStep<'_, F>) -> std::result::Result<(), SolveError>
+    where
+        F: Formulation,
+    {
+        let t = step.range().1;
+        let mut end = std::mem::take(&mut self.end);
+        step.interpolate(t, &mut end)?;
+        self.gap(step.formulation(), t, &end);
+        self.end = end;
+        Ok(())
+    }
+}
+
+fn add_stats(total: &mut SolverStats, s: &SolverStats) {
+    if s.steps > 0 {
+        if total.steps == 0 {
+            total.h_min_used = s.h_min_used;
+            total.h_max_used = s.h_max_used;
+        } else {
+            total.h_min_used = total.h_min_used.min(s.h_min_used);
+            total.h_max_used = total.h_max_used.max(s.h_max_used);
+        }
+    }
+    total.steps += s.steps;
+    total.rejected += s.rejected;
+    total.rhs_evals += s.rhs_evals;
+    total.dense_evals += s.dense_evals;
+    total.events += s.events;
+    total.restarts += s.restarts;
+}
