@@ -33,7 +33,11 @@ pub fn toml_text(obj: &Bound<'_, PyAny>) -> PyResult<String> {
 
 /// The TOML value of `obj` at `path`; `None` for Python's `None` (the key is left out).
 fn value(obj: &Bound<'_, PyAny>, path: &str, depth: usize) -> PyResult<Option<Value>> {
-    let at = if path.is_empty() { "the document" } else { path };
+    let at = if path.is_empty() {
+        "the document"
+    } else {
+        path
+    };
     if depth > MAX_DEPTH {
         return Err(PyTypeError::new_err(format!(
             "{at}: nested more than {MAX_DEPTH} levels deep; expected a model file's tables"

@@ -127,7 +127,11 @@ impl PyModel {
         });
         let model = loaded.map_err(|e| errors::to_py(py, Error::from(e), None))?;
         let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
-        for text in model.warnings.iter().filter(|w| !self.model.warnings.contains(w)) {
+        for text in model
+            .warnings
+            .iter()
+            .filter(|w| !self.model.warnings.contains(w))
+        {
             let text = std::ffi::CString::new(text.as_str()).unwrap_or_default();
             PyErr::warn(py, &category, &text, 1)?;
         }

@@ -11,10 +11,11 @@ pub struct SchemaArgs {}
 
 /// Runs `schema`.
 pub fn run(_: &SchemaArgs) -> Result<(), Failure> {
-    let text = serde_json::to_string_pretty(&linkdyn::model::json_schema()).map_err(|e| Failure {
-        code: EXIT_OUTPUT,
-        message: format!("cannot write the schema: {e}"),
-    })?;
+    let text =
+        serde_json::to_string_pretty(&linkdyn::model::json_schema()).map_err(|e| Failure {
+            code: EXIT_OUTPUT,
+            message: format!("cannot write the schema: {e}"),
+        })?;
     let mut out = std::io::stdout().lock();
     writeln!(out, "{text}")
         .and_then(|()| out.flush())

@@ -75,10 +75,12 @@ pub fn effective_text(text: &str, file: &str, overrides: &[String]) -> Result<St
     }
     let patched = overrides::apply(text, file, overrides)?.0;
     // Written again in the documentation's order of tables (`[model]` first), not alphabetical.
-    let doc: toml::Table = patched.parse().map_err(|e: toml::de::Error| ModelError::WholeFile {
-        file: file.to_string(),
-        message: e.message().trim().to_string(),
-    })?;
+    let doc: toml::Table = patched
+        .parse()
+        .map_err(|e: toml::de::Error| ModelError::WholeFile {
+            file: file.to_string(),
+            message: e.message().trim().to_string(),
+        })?;
     document_text(&doc).map_err(|e| ModelError::WholeFile {
         file: file.to_string(),
         message: format!("cannot write the model after the overrides: {e}"),
@@ -197,7 +199,11 @@ mod tests {
         let written = document_text(&doc).unwrap_or_else(|e| panic!("{e}"));
         let back: toml::Table = written.parse().unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(back, doc, "{written}");
-        let at = |s: &str| written.find(s).unwrap_or_else(|| panic!("{s} in {written}"));
+        let at = |s: &str| {
+            written
+                .find(s)
+                .unwrap_or_else(|| panic!("{s} in {written}"))
+        };
         assert!(at("[model]") < at("[ground") && at("[ground") < at("[[bodies]]"));
         assert!(at("[[bodies]]") < at("[[joints]]"), "{written}");
         let stray: toml::Table = "x = 1\n[model]\nname = \"m\"\n"
