@@ -73,3 +73,18 @@ def test_bad_fields_fail_validation_as_they_fail_loading(validator, cli, tmp_pat
     path.write_text(bad)
     code, _, err = cli("check", str(path))
     assert code == 2, f"{case}: the loader accepts what the schema refuses: {err}"
+
+
+def test_the_directive_line_leaves_the_model_as_it_was(cli, root, tmp_path):
+    # docs/model_format.md's one line, `#:schema …` at the top, is a comment to the loader:
+    # the model checks as before and runs to the same numbers.
+    text = (root / PENDULUM).read_text()
+    path = tmp_path / "pendulum.toml"
+    path.write_text("#:schema ../linkdyn.schema.json\n" + text)
+    rows = []
+    for model in (str(path), PENDULUM):
+        out = tmp_path / f"run{len(rows)}.csv"
+        code, _, err = cli("run", model, "--t-end", "0.1", "--out", str(out))
+        assert code == 0, err
+        rows.append([l for l in out.read_text().splitlines() if not l.startswith("#")])
+    assert rows[0] == rows[1]
