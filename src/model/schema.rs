@@ -815,6 +815,53 @@ mod tests {
         }
     }
 
+    /// The type names the schema offers are those the loader lists when it refuses an unknown
+    /// type (a joint, driver, force or shape of type "zzz" in the shipped pendulum).
+    #[test]
+    fn type_names_are_the_loader_s() {
+        let pendulum = include_str!("../../models/pendulum.toml");
+        let cases: [(&str, String, &[&str]); 4] = [
+            (
+                "joint",
+                pendulum.replace("type = \"revolute\"", "type = \"zzz\""),
+                super::JOINT_TYPES,
+            ),
+            (
+                "driver",
+                format!(
+                    "{pendulum}\n[[drivers]]\nname = \"m\"\ntype = \"zzz\"\njoint = \"O\"\nspeed = 1.0\n"
+                ),
+                super::DRIVER_TYPES,
+            ),
+            (
+                "force",
+                format!("{pendulum}\n[[forces]]\nname = \"f\"\ntype = \"zzz\"\nbody = \"rod\"\n"),
+                super::FORCE_TYPES,
+            ),
+            (
+                "shape",
+                pendulum.replace(
+                    "\n[[joints]]",
+                    "shapes = [{ type = \"zzz\", at = \"O\", radius = 0.01 }]\n\n[[joints]]",
+                ),
+                super::SHAPE_TYPES,
+            ),
+        ];
+        for (what, text, names) in cases {
+            let message = match super::super::load_str(&text, "t.toml", &[]) {
+                Ok(_) => panic!("{what} of type \"zzz\" was accepted"),
+                Err(e) => e.to_string(),
+            };
+            assert!(message.contains("zzz"), "{what}: {message}");
+            for name in names {
+                assert!(
+                    message.contains(name),
+                    "{what}: the schema offers \"{name}\", the loader's message does not list it: {message}"
+                );
+            }
+        }
+    }
+
     /// The names the schema offers for laws are the loader's (`laws.rs`).
     #[test]
     fn law_names_are_the_loader_s() {
