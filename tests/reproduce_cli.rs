@@ -1,6 +1,7 @@
 //! `linkdyn reproduce` refuses to write into a directory that is not a previous reproduction
 //! (exit 2, naming it), leaving it and its parent untouched, and refuses a model that does not
-//! load before any work; its default model is found from any directory. (The whole `--quick` reproduction runs in CI: `.ci/run`.)
+//! load before any work; its default model is found from any directory. (The whole `--quick`
+//! reproduction runs in CI: `.ci/run`.)
 
 mod cli_common;
 
