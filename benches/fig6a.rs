@@ -35,6 +35,7 @@ fn slice(c: &mut Criterion) {
             .unwrap_or_else(|e| panic!("{e}"));
         let sweep = Sweep {
             model_path: "models/farahan2016.toml".as_ref(),
+            model_text: None,
             overrides: &overrides,
             parameter: "joints.B.clearance",
             grid,

@@ -1,6 +1,7 @@
 //! `linkdyn reproduce` refuses to write into a directory that is not a previous reproduction
 //! (exit 2, naming it), leaving it and its parent untouched, and refuses a model that does not
-//! load before any work. (The whole `--quick` reproduction runs in CI: `.ci/run`.)
+//! load before any work; its default model is found from any directory. (The whole `--quick`
+//! reproduction runs in CI: `.ci/run`.)
 
 mod cli_common;
 
@@ -48,4 +49,30 @@ fn an_existing_directory_without_a_report_is_refused_and_left_alone() {
     assert!(err.contains("models/no_such_model.toml"), "{err}");
     assert!(!fresh.exists(), "{} was created", fresh.display());
     let _ = std::fs::remove_dir_all(&parent);
+}
+
+/// From a directory other than the repository root, the default model is the one of the source
+/// tree the binary was built from (said on stderr), found before any directory is made: here the
+/// output is then refused as above, so nothing runs.
+#[test]
+fn the_default_model_is_found_from_any_directory() {
+    let elsewhere = cli_common::scratch("elsewhere");
+    let out = elsewhere.join("mine");
+    std::fs::create_dir_all(&out).unwrap_or_else(|e| panic!("{e}"));
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_linkdyn"))
+        .args(["reproduce", "--quick", "--out", "mine"])
+        .current_dir(&elsewhere)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run linkdyn: {e}"));
+    let err = String::from_utf8_lossy(&run.stderr);
+    let model = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/farahan2016.toml");
+    assert_eq!(
+        err,
+        format!(
+            "reproduce: model {}\nerror: --out mine: exists and is not a previous reproduction (no report.md); choose a new directory\n",
+            model.display()
+        )
+    );
+    assert_eq!(run.status.code(), Some(2), "exit code; stderr: {err}");
+    let _ = std::fs::remove_dir_all(&elsewhere);
 }

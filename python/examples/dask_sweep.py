@@ -13,7 +13,9 @@ bifurcation diagram. The same top-level point function runs on
 Every executor must give the same numbers, bit for bit, as the built-in sweep
 ``Model.bifurcation`` (rayon threads inside Rust), which the script checks at the end. On a
 cluster, point Dask's ``Client`` or ``ray.init(address=...)`` at it; the model file must be
-readable by every worker under the same path.
+readable by every worker under the same path, or send the workers its text
+(``linkdyn.load(MODEL).to_toml()``) and load it there with ``linkdyn.loads`` (as
+python/tests/test_dask_sweep.py does on a Dask ``LocalCluster``).
 
     python python/examples/dask_sweep.py
 

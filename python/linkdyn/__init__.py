@@ -19,6 +19,11 @@ NumPy arrays (records in :mod:`linkdyn._analyses`):
 ...                       revs=150, transient=100, formulation="reduced")   # rayon threads
 >>> rows = (b.parameter, b.turn, b.value)         # one row per recorded turn and point
 
+Models can be written in Python too: :func:`loads` reads TOML text, :func:`from_dict` a dict
+of the file's tables, :class:`ModelBuilder` adds bodies, joints and drivers one call at a
+time; ``model.set("joints.B.clearance", 4e-4)`` is an edited copy, and ``model.to_toml()``
+the file the command line reads to the same numbers.
+
 ``model.spectrum(observe)``, ``model.phase(observe)`` and ``model.lyapunov()`` likewise.
 
 Errors are :class:`LinkdynError` subclasses (:class:`ModelError`, :class:`SettingsError`,
@@ -41,6 +46,7 @@ from ._errors import (
     SolverError,
 )
 from ._linkdyn import Model, Result
+from ._builder import ModelBuilder
 
 __version__ = _linkdyn.version()
 
@@ -96,6 +102,32 @@ def load(path: Union[str, "os.PathLike[str]"], set: Overrides = None) -> Model:
     return model
 
 
+def loads(text: str, set: Overrides = None, name: str = "<string>") -> Model:
+    """Reads and validates a model from TOML text, as :func:`load` reads a file: the same
+    checks and messages, with ``name`` in place of the file name (``<string>:12:3: …``) and in
+    every result's provenance. ``set`` as for :func:`load`.
+
+    >>> text = open("models/farahan2016.toml").read()
+    >>> linkdyn.loads(text.replace("speed_rpm = 250.0", "speed_rpm = 3500.0")).drivers[0]["speed_rpm"]
+    3500.0
+    """
+    model = _linkdyn.loads(text, _overrides(set), name)
+    for message in model.warnings:
+        warnings.warn(message, UserWarning, stacklevel=2)
+    return model
+
+
+def from_dict(document: Mapping[str, Any], name: str = "<dict>") -> Model:
+    """Builds a model from a dict of the model file's tables, laid out as ``tomllib`` reads a
+    model file (``{"model": {"name": …}, "bodies": [{…}, …], "joints": [...], …}``; see
+    docs/model_format.md). ``None`` values are left out, as unwritten optional fields. The
+    document is written as TOML and read by :func:`loads`, so it is checked as a file is; the
+    line numbers in a :class:`ModelError` are those of ``model.to_toml()``. :class:`ModelBuilder`
+    builds such a dict one element at a time; ``Model.to_dict()`` gives one to edit.
+    """
+    return loads(_linkdyn.dict_to_toml(document), name=name)
+
+
 def version() -> str:
     """linkdyn version and git commit of the compiled core."""
     return _linkdyn.version()
@@ -103,6 +135,9 @@ def version() -> str:
 
 __all__ = [
     "load",
+    "loads",
+    "from_dict",
+    "ModelBuilder",
     "version",
     "Model",
     "Result",

@@ -1,6 +1,6 @@
 """Type stubs of the compiled core ``linkdyn._linkdyn`` (re-exported by ``linkdyn``)."""
 
-from typing import Any, Callable, Dict, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -12,6 +12,15 @@ FloatArray = npt.NDArray[np.float64]
 def load(path: str, overrides: List[str] = ...) -> "Model":
     """Reads and validates a model file, applying ``"KEY=VALUE"`` overrides in order (as
     ``--set``). Raises ``ModelError``. Use ``linkdyn.load``, which also takes a dict."""
+
+def loads(text: str, overrides: List[str] = ..., name: str = ...) -> "Model":
+    """Reads and validates a model from TOML text, as ``load`` reads a file; ``name``
+    (default ``"<string>"``) stands for the file in messages and provenance. Use
+    ``linkdyn.loads``, which also takes a dict of overrides and issues the warnings."""
+
+def dict_to_toml(document: Mapping[str, Any]) -> str:
+    """A dict of the model file's tables as TOML text (``None`` values left out). Raises
+    ``TypeError`` naming the dotted path of a value TOML cannot hold."""
 
 def version() -> str:
     """linkdyn version and git commit of the compiled core."""
@@ -28,10 +37,24 @@ class Model:
         """Model description (may be empty)."""
     @property
     def path(self) -> str:
-        """The model file as given to ``load``."""
+        """The model file as given to ``load``, or the ``name`` of a model from ``loads``
+        (``"<string>"``), ``from_dict`` (``"<dict>"``) or ``ModelBuilder.build``."""
     @property
     def overrides(self) -> List[str]:
         """The overrides applied at load time (``"KEY=VALUE"``, in order)."""
+    def set(self, key: Union[str, Mapping[str, Any], Sequence[str]], value: Any = ...) -> "Model":
+        """A copy with more overrides after the load-time ones, as more ``--set KEY=VALUE``
+        would: ``model.set("joints.B.clearance", 4e-4)``, or one dict (or list of
+        ``"KEY=VALUE"`` strings) of several. The model itself is unchanged. Raises
+        ``ModelError``; issues a new warning as a ``UserWarning``."""
+    def to_toml(self) -> str:
+        """The model as TOML text that ``linkdyn`` (the command) and ``linkdyn.loads`` read to
+        the same model, overrides included: the command gives this model's numbers bit for
+        bit. Without overrides the text as loaded, comments and all; with them, written anew
+        without comments. A model from a file needs the file unchanged since it was loaded."""
+    def to_dict(self) -> Dict[str, Any]:
+        """The model file's tables as a dict (``tomllib.loads(model.to_toml())``), to edit and
+        hand to ``linkdyn.from_dict``."""
     @property
     def notes(self) -> List[str]:
         """Things to know that are not errors (the CLI's ``note:`` lines), one sentence each."""

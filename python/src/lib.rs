@@ -8,6 +8,7 @@
 //! its defaults and its documentation live in `linkdyn/__init__.py` and `linkdyn/_linkdyn.pyi`.
 
 mod analyses;
+mod document;
 mod errors;
 mod model;
 mod result;
@@ -28,6 +29,30 @@ fn load(py: Python<'_>, path: String, overrides: Vec<String>) -> PyResult<model:
     }
 }
 
+/// Reads and validates a model from TOML text, as `load` reads a file; `name` stands for the
+/// file in messages and provenance.
+#[pyfunction]
+#[pyo3(signature = (text, overrides = Vec::new(), name = String::from("<string>")))]
+fn loads(
+    py: Python<'_>,
+    text: String,
+    overrides: Vec<String>,
+    name: String,
+) -> PyResult<model::PyModel> {
+    let loaded = py.detach(|| linkdyn::model::load_str(&text, &name, &overrides));
+    match loaded {
+        Ok(m) => Ok(model::PyModel::from_text(m, name, text)),
+        Err(e) => Err(errors::to_py(py, linkdyn::Error::from(e), None)),
+    }
+}
+
+/// The model document `document` (a dict of the model file's tables) as TOML text; raises
+/// `TypeError` naming a value TOML cannot hold.
+#[pyfunction]
+fn dict_to_toml(document: &Bound<'_, PyAny>) -> PyResult<String> {
+    document::toml_text(document)
+}
+
 /// linkdyn version and git commit of the compiled core.
 #[pyfunction]
 fn version() -> String {
@@ -38,6 +63,8 @@ fn version() -> String {
 #[pymodule]
 fn _linkdyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(loads, m)?)?;
+    m.add_function(wrap_pyfunction!(dict_to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_class::<model::PyModel>()?;
     m.add_class::<result::PyResult_>()?;

@@ -9,7 +9,7 @@ use crate::settings::{Solve, columns};
 use crate::sweep::{self, Progress, SweepArgs};
 use linkdyn::Error;
 use linkdyn::formulation::{Dae, DaeOptions};
-use linkdyn::model::{JointKind, Model};
+use linkdyn::model::{JointKind, Model, ModelError};
 use linkdyn::simulation::Simulation;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -18,13 +18,52 @@ use pyo3::types::{PyDict, PyList};
 #[pyclass(name = "Model", module = "linkdyn", frozen)]
 pub struct PyModel {
     model: Model,
+    /// The model file as given, or the name a model from text goes by in messages.
     path: String,
+    /// The model's text (before the overrides) where it did not come from a file.
+    text: Option<String>,
 }
 
 impl PyModel {
-    /// Wraps a loaded model; `path` is the file as the caller gave it (for messages).
+    /// Wraps a model loaded from a file; `path` is the file as the caller gave it.
     pub fn new(model: Model, path: String) -> Self {
-        PyModel { model, path }
+        PyModel {
+            model,
+            path,
+            text: None,
+        }
+    }
+
+    /// Wraps a model loaded from `text` (`loads`, `from_dict`); `name` stands for the file in
+    /// messages and provenance.
+    pub fn from_text(model: Model, name: String, text: String) -> Self {
+        PyModel {
+            model,
+            path: name,
+            text: Some(text),
+        }
+    }
+
+    /// The model's text before the overrides: the text given, or the file read again, which
+    /// must be unchanged since it was loaded (its SHA-256 is in every result's provenance).
+    fn source_text(&self) -> Result<String, ModelError> {
+        if let Some(text) = &self.text {
+            return Ok(text.clone());
+        }
+        let text = linkdyn::model::read(self.path.as_ref())?;
+        if linkdyn::model::text_sha256(&text) != self.model.source.sha256 {
+            return Err(ModelError::WholeFile {
+                file: self.path.clone(),
+                message: "the model file changed since it was loaded; load it again".into(),
+            });
+        }
+        Ok(text)
+    }
+
+    /// The model file's text with the overrides applied: what `to_toml` returns.
+    fn effective_text(&self) -> Result<String, ModelError> {
+        let text = self.source_text()?;
+        linkdyn::model::effective_text(&text, &self.path, &self.model.source.overrides)
     }
 }
 
@@ -52,6 +91,84 @@ impl PyModel {
     #[getter]
     fn overrides(&self) -> Vec<String> {
         self.model.source.overrides.clone()
+    }
+
+    /// A copy of the model with more overrides applied after the load-time ones, as more
+    /// `--set KEY=VALUE` would: `model.set("joints.B.clearance", 4e-4)`, or one dict
+    /// `model.set({"joints.B.clearance": 4e-4, "drivers.motor.speed_rpm": 3500})` (values as
+    /// `load`'s `set=`). The model itself is not changed. Raises `ModelError` as `load` does;
+    /// a new warning is issued as a `UserWarning`.
+    #[pyo3(signature = (key, value = None))]
+    fn set(
+        &self,
+        py: Python<'_>,
+        key: &Bound<'_, PyAny>,
+        value: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<PyModel> {
+        let given = match value {
+            Some(v) => {
+                let d = PyDict::new(py);
+                d.set_item(key, v)?;
+                d.into_any()
+            }
+            None => key.clone(),
+        };
+        // The package's own conversion of `set=` values, so both spell a value alike.
+        let added: Vec<String> = py
+            .import("linkdyn")?
+            .getattr("_overrides")?
+            .call1((given,))?
+            .extract()?;
+        let mut overrides = self.model.source.overrides.clone();
+        overrides.extend(added);
+        let loaded = py.detach(|| {
+            let text = self.source_text()?;
+            linkdyn::model::load_str(&text, &self.path, &overrides)
+        });
+        let model = loaded.map_err(|e| errors::to_py(py, Error::from(e), None))?;
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+        for text in model
+            .warnings
+            .iter()
+            .filter(|w| !self.model.warnings.contains(w))
+        {
+            let text = std::ffi::CString::new(text.as_str()).unwrap_or_default();
+            PyErr::warn(py, &category, &text, 1)?;
+        }
+        Ok(PyModel {
+            model,
+            path: self.path.clone(),
+            text: self.text.clone(),
+        })
+    }
+
+    /// The model as TOML text that `linkdyn` (the command) and `linkdyn.loads` read to the
+    /// same model, overrides included (`linkdyn run model.toml` then gives this model's
+    /// numbers, bit for bit). Without overrides, the text as loaded, comments and all; with
+    /// them, the document written anew without comments. A model from a file needs the file
+    /// unchanged since it was loaded (else `ModelError`).
+    fn to_toml(&self, py: Python<'_>) -> PyResult<String> {
+        py.detach(|| self.effective_text())
+            .map_err(|e| errors::to_py(py, Error::from(e), None))
+    }
+
+    /// The model file's tables as a dict (as `tomllib.loads(model.to_toml())` gives it): edit
+    /// it and hand it to `linkdyn.from_dict` to build the edited model.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let text = py
+            .detach(|| self.effective_text())
+            .map_err(|e| errors::to_py(py, Error::from(e), None))?;
+        let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+            errors::to_py(
+                py,
+                Error::from(ModelError::WholeFile {
+                    file: self.path.clone(),
+                    message: e.message().trim().to_string(),
+                }),
+                None,
+            )
+        })?;
+        crate::document::to_py(py, &table)
     }
 
     /// Things to know that are not errors, one sentence each (e.g. the fields a `set=` that
@@ -359,6 +476,7 @@ impl PyModel {
             warm_start,
             chunks,
             direction,
+            model_text: self.text.clone(),
         };
         sweep::bifurcation(py, &self.model, &self.path, &solve, args, progress)
     }

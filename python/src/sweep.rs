@@ -58,6 +58,9 @@ pub struct SweepArgs {
     pub threads: Option<i64>,
     pub shard: Option<String>,
     pub settle: bool,
+    /// The text of a model built in Python (`loads`, `from_dict`), loaded by each point instead
+    /// of the file.
+    pub model_text: Option<String>,
     pub transient_min: Option<i64>,
     pub warm_start: bool,
     pub chunks: Option<i64>,
@@ -153,6 +156,7 @@ impl SweepArgs {
     fn sweep<'a>(&'a self, path: &'a str, model: &'a Model, plan: &'a Plan) -> Sweep<'a> {
         Sweep {
             model_path: Path::new(path),
+            model_text: self.model_text.as_deref(),
             overrides: &model.source.overrides,
             parameter: &self.param,
             grid: plan.grid,

@@ -31,7 +31,8 @@ pub mod svg;
 pub use recording::Recording;
 pub use scene::{
     BACKGROUND, BODY_COLOURS, Bounds, Colour, DrawOptions, FORCE, GROUND, INK, Instant, Item,
-    JOURNAL, Mark, Picture, Scene, TRAIL, View, body_colour, crank_angle, draw, global, to_global,
+    JOURNAL, Mark, Picture, RAIL_PX, SLIDER_BLOCK_FRACTION, Scene, TRAIL, View, body_colour,
+    crank_angle, draw, global, slide, slider_block_side, to_global,
 };
 
 use crate::model::Model;

@@ -1,7 +1,7 @@
 //! A run's samples as [`Instant`]s at any time: body poses, contact forces and journal paths
 //! interpolated linearly between the samples of a result table.
 
-use super::scene::{Instant, global};
+use super::scene::{Instant, global, slide};
 use crate::model::{JointKind, Model};
 use crate::plot::{PlotError, Table};
 
@@ -18,6 +18,8 @@ pub struct Recording<'a> {
     contact: Vec<Option<[&'a [f64]; 2]>>,
     /// Per joint: (t, e) at the kept samples (empty for joints without clearance).
     paths: Vec<Vec<(f64, [f64; 2])>>,
+    /// Per joint: the least and greatest slide of a prismatic joint over every sample.
+    travel: Vec<Option<[f64; 2]>>,
 }
 
 impl<'a> Recording<'a> {
@@ -69,6 +71,7 @@ impl<'a> Recording<'a> {
             poses,
             contact,
             paths: Vec::new(),
+            travel: Vec::new(),
         };
         let stride = t.len().div_ceil(MAX_PATH_POINTS).max(1);
         rec.paths = model
@@ -84,6 +87,21 @@ impl<'a> Recording<'a> {
                     })
                     .collect(),
                 _ => Vec::new(),
+            })
+            .collect();
+        rec.travel = model
+            .joints
+            .iter()
+            .map(|j| {
+                if !matches!(j.kind, JointKind::Prismatic { .. }) {
+                    return None;
+                }
+                (0..t.len())
+                    .filter_map(|i| slide(j, &rec.poses_at_row(i)))
+                    .filter(|s| s.is_finite())
+                    .fold(None, |range: Option<[f64; 2]>, s| {
+                        Some(range.map_or([s, s], |[lo, hi]| [lo.min(s), hi.max(s)]))
+                    })
             })
             .collect();
         Ok(rec)
@@ -153,6 +171,7 @@ impl<'a> Recording<'a> {
             poses,
             contact,
             history,
+            travel: self.travel.clone(),
         }
     }
 

@@ -3,7 +3,7 @@
 //! of pixel [`Mark`]s that the PNG, SVG, HTML and GIF writers draw as they are. Every still
 //! figure and every animation frame comes from [`draw`], so they look alike.
 
-use crate::model::{Anchor, Frame, JointKind, Model, Shape};
+use crate::model::{Anchor, Frame, Joint, JointKind, Model, Shape};
 
 /// An sRGB colour.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -56,6 +56,14 @@ const TOP_BAND_PX: f64 = 50.0;
 const BOTTOM_BAND_PX: f64 = 30.0;
 /// Margin left and right of the mechanism (px).
 const SIDE_PX: f64 = 16.0;
+/// Width of the line that draws a prismatic joint's rail (px).
+pub const RAIL_PX: f64 = 3.0;
+/// Side of the square that draws a body with one point (or none) and no shapes, such as a
+/// slider, as a fraction of the model's longest body (the largest distance between two points
+/// of one body): a block in proportion to the linkage at any scale.
+pub const SLIDER_BLOCK_FRACTION: f64 = 0.15;
+/// That side where no body has two points (m): a model of lone sliders has no length to take.
+const SLIDER_BLOCK_M: f64 = 0.05;
 /// Points on a drawn circle or round bar end.
 const ARC_POINTS: usize = 16;
 
@@ -72,6 +80,10 @@ pub struct Instant {
     /// Per joint: the eccentricities e = journal − bearing centre (m, global) from the start to
     /// `t`, the last one at `t` (empty for joints without clearance).
     pub history: Vec<Vec<[f64; 2]>>,
+    /// Per joint: of a prismatic joint, the least and the greatest [`slide`] over the whole
+    /// run (m), so that its rail is drawn the same length in every frame; `None` for other
+    /// joints (and where unknown: the rail then spans the slider's place at `t`).
+    pub travel: Vec<Option<[f64; 2]>>,
 }
 
 /// What [`draw`] is asked to show besides the mechanism.
@@ -181,6 +193,47 @@ pub fn to_global(pose: [f64; 3], s: [f64; 2]) -> [f64; 2] {
     [x + c * s[0] - sn * s[1], y + sn * s[0] + c * s[1]]
 }
 
+/// The global direction (unit) of a prismatic joint's axis, given in the frame of its body a.
+fn rail_direction(joint: &Joint, axis: [f64; 2], poses: &[[f64; 3]]) -> Option<[f64; 2]> {
+    let phi = match joint.a.frame {
+        Frame::Ground => 0.0,
+        Frame::Body(id) => poses.get(id.0)?[2],
+    };
+    let (sn, c) = phi.sin_cos();
+    Some([c * axis[0] - sn * axis[1], sn * axis[0] + c * axis[1]])
+}
+
+/// How far point b of a prismatic joint is from point a along the joint's axis (m): the
+/// slider's place on its rail. `None` for other joints.
+pub fn slide(joint: &Joint, poses: &[[f64; 3]]) -> Option<f64> {
+    let JointKind::Prismatic { axis, .. } = joint.kind else {
+        return None;
+    };
+    let (a, b) = (global(&joint.a, poses)?, global(&joint.b, poses)?);
+    let u = rail_direction(joint, axis, poses)?;
+    Some((b[0] - a[0]) * u[0] + (b[1] - a[1]) * u[1])
+}
+
+/// The side of a slider block (m): [`SLIDER_BLOCK_FRACTION`] of the model's longest body.
+pub fn slider_block_side(model: &Model) -> f64 {
+    let longest = model
+        .bodies
+        .iter()
+        .flat_map(|b| {
+            b.points.iter().flat_map(|(_, p)| {
+                b.points
+                    .iter()
+                    .map(move |(_, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
+            })
+        })
+        .fold(0.0, f64::max);
+    if longest > 0.0 {
+        SLIDER_BLOCK_FRACTION * longest
+    } else {
+        SLIDER_BLOCK_M
+    }
+}
+
 /// The crank angle (degrees in [0, 360)): the relative angle φ_b − φ_a of the joint of the
 /// model's first driver (the ground counts φ = 0); `None` without a driver.
 pub fn crank_angle(model: &Model, poses: &[[f64; 3]]) -> Option<f64> {
@@ -218,8 +271,11 @@ fn stadium(a: [f64; 2], b: [f64; 2], w: f64) -> Vec<[f64; 2]> {
     half(b, q0 - quarter).chain(half(a, q0 + quarter)).collect()
 }
 
-/// The mechanism of `model` at `now`: each body as its shapes (filled in the body's colour),
-/// or without shapes as a line through its points (closed when it has three or more); then
+/// The mechanism of `model` at `now`: first each prismatic joint's rail, a grey line along its
+/// axis over the slider's travel and a block beyond either end; each body as its shapes
+/// (filled in the body's colour), or without shapes as a line through its points (closed when
+/// it has three or more), a body with one point or none as a square block of side
+/// [`slider_block_side`] about it (a slider); then
 /// ground points as grey dots and pins as white dots; each clearance joint's clearance circle (radius c)
 /// around the bearing centre, the journal centre's path and the journal centre itself at
 /// `magnify` times their true offsets; the contact force on each journal as an arrow from the
@@ -232,12 +288,46 @@ pub fn draw(model: &Model, now: &Instant, options: &DrawOptions) -> Scene {
     let poses = &now.poses;
     let mut items = Vec::new();
     let mut legend = Vec::new();
+    let block = slider_block_side(model);
+    // Rails first, under the bodies that slide on them.
+    for (k, j) in model.joints.iter().enumerate() {
+        let JointKind::Prismatic { axis, .. } = j.kind else {
+            continue;
+        };
+        let (Some(a), Some(u), Some(here)) = (
+            global(&j.a, poses),
+            rail_direction(j, axis, poses),
+            slide(j, poses),
+        ) else {
+            continue;
+        };
+        let [lo, hi] = now.travel.get(k).copied().flatten().unwrap_or([here, here]);
+        let at = |s: f64| [a[0] + s * u[0], a[1] + s * u[1]];
+        items.push(Item::Line {
+            points: vec![at(lo.min(here) - block), at(hi.max(here) + block)],
+            closed: false,
+            colour: GROUND,
+            width_px: RAIL_PX,
+        });
+    }
     for (k, (body, pose)) in model.bodies.iter().zip(poses).enumerate() {
         let colour = body_colour(k);
         legend.push((body.name.clone(), colour));
         let outline = Colour(colour.0 / 2, colour.1 / 2, colour.2 / 2);
         let g = |s: [f64; 2]| to_global(*pose, s);
-        if body.shapes.is_empty() {
+        if body.shapes.is_empty() && body.points.len() <= 1 {
+            // A slider (or a lone mass): a line through one point would not show.
+            let c = body.points.first().map_or([0.0, 0.0], |(_, s)| *s);
+            let h = block / 2.0;
+            items.push(Item::Area {
+                points: [[-h, -h], [h, -h], [h, h], [-h, h]]
+                    .iter()
+                    .map(|d| g([c[0] + d[0], c[1] + d[1]]))
+                    .collect(),
+                fill: colour,
+                outline,
+            });
+        } else if body.shapes.is_empty() {
             items.push(Item::Line {
                 points: body.points.iter().map(|(_, s)| g(*s)).collect(),
                 closed: body.points.len() >= 3,

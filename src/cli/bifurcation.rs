@@ -319,6 +319,7 @@ pub fn run(args: &BifurcationArgs) -> Result<(), Failure> {
         .map_err(|e| super::in_model(&args.model.model, e))?;
     let sweep = Sweep {
         model_path: &args.model.model,
+        model_text: None,
         // `--set` then `--ideal` as overrides, so every point reloads the same model.
         overrides: &base_model.source.overrides,
         parameter: &args.param,

@@ -22,6 +22,7 @@ mod poincare;
 mod progress;
 mod reproduce;
 mod run;
+mod schema;
 mod spectrum;
 mod stress;
 mod workprecision;
@@ -80,6 +81,9 @@ enum Command {
     /// Complete or remove what runs killed outright left beside result files (temporary files,
     /// a commit cut between its renames, a stale lock); every run on a target does this first.
     Clean(clean::CleanArgs),
+    /// Print the JSON Schema of the model file, for TOML editors (`linkdyn schema >
+    /// linkdyn.schema.json`; docs/model_format.md, "Editor support").
+    Schema(schema::SchemaArgs),
 }
 
 /// Loads a model file with its `--set` overrides, makes the clearance joints named by `--ideal`
@@ -282,6 +286,7 @@ pub fn main() -> ExitCode {
         Command::Workprecision(args) => workprecision::run(&args),
         Command::Animate(args) => animate::run(&args),
         Command::Clean(args) => clean::run(&args),
+        Command::Schema(args) => schema::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -20,9 +20,34 @@ pub struct ReproduceArgs {
     /// Short runs (under two minutes; CI): fewer turns and 6 sweep points instead of 200.
     #[arg(long)]
     quick: bool,
-    /// The paper's model file.
-    #[arg(long, default_value = "models/farahan2016.toml")]
+    /// The paper's model file. By default models/farahan2016.toml of the current directory,
+    /// else of the source tree linkdyn was built from.
+    #[arg(long, default_value = DEFAULT_MODEL)]
     model: PathBuf,
+}
+
+/// The paper's model, relative to the repository root.
+const DEFAULT_MODEL: &str = "models/farahan2016.toml";
+
+/// The model to reproduce with: the one given, or the default found from any directory (in
+/// the current one, else in the source tree the binary was built from, where `cargo install
+/// --path .` leaves it); checked before any directory is made.
+fn model_path(given: &Path) -> Result<PathBuf, Failure> {
+    if given != Path::new(DEFAULT_MODEL) || given.is_file() {
+        return Ok(given.to_path_buf());
+    }
+    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join(DEFAULT_MODEL);
+    if built.is_file() {
+        eprintln!("reproduce: model {}", built.display());
+        return Ok(built);
+    }
+    Err(Failure {
+        code: super::EXIT_BAD_INPUT,
+        message: format!(
+            "the paper's model {DEFAULT_MODEL} is neither in the current directory nor in the source tree linkdyn was built from ({}); run from the repository root or give --model PATH",
+            built.display()
+        ),
+    })
 }
 
 fn io(path: &Path, e: std::io::Error) -> Failure {
@@ -34,6 +59,7 @@ fn io(path: &Path, e: std::io::Error) -> Failure {
 
 /// Runs `reproduce`.
 pub fn run(args: &ReproduceArgs) -> Result<(), Failure> {
+    let model = model_path(&args.model)?;
     let out = &args.out;
     if out.exists() && !out.join("report.md").is_file() {
         return Err(Failure::from(OutputError::Target {
@@ -47,7 +73,7 @@ pub fn run(args: &ReproduceArgs) -> Result<(), Failure> {
     temp.push(format!(".{}.tmp", std::process::id()));
     let temp = PathBuf::from(temp);
     std::fs::create_dir_all(&temp).map_err(|e| io(&temp, e))?;
-    let result = build(args, &temp);
+    let result = build(args, &model, &temp);
     if let Err(e) = result {
         let _ = std::fs::remove_dir_all(&temp);
         return Err(e);
@@ -67,14 +93,14 @@ pub fn run(args: &ReproduceArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn build(args: &ReproduceArgs, dir: &Path) -> Result<(), Failure> {
+fn build(args: &ReproduceArgs, model: &Path, dir: &Path) -> Result<(), Failure> {
     let opts = ReproduceOptions {
-        model: args.model.clone(),
+        model: model.to_path_buf(),
         quick: args.quick,
     };
     let mut log = |line: &str| eprintln!("reproduce: {line}");
     let findings = linkdyn::reproduce::reproduce(&opts, dir, &mut log)
-        .map_err(|e| super::in_model(&args.model, e))?;
+        .map_err(|e| super::in_model(model, e))?;
     let mut md = AtomicFile::create(&dir.join("report.md"))?;
     md.write_str(&report::markdown(&findings))?;
     md.commit()?;

@@ -462,6 +462,7 @@ pub fn reproduce(
                 v,
                 "bc",
                 s,
+                CLEARANCE,
                 "Fig. 5b/c: Poincaré section, journal centre, 250 rpm",
             ));
         }
@@ -521,6 +522,7 @@ pub fn reproduce(
                 v,
                 "cd",
                 s,
+                CLEARANCE_3500,
                 "Fig. 6c/d: Poincaré section, journal centre, 3500 rpm, c = 0.44 mm",
             ));
         }
@@ -675,6 +677,7 @@ fn sweep(
                 a.name,
                 Sweep {
                     model_path: &opts.model,
+                    model_text: None,
                     overrides: &overrides,
                     parameter: "joints.B.clearance",
                     grid,

@@ -116,13 +116,16 @@ pub fn orbit(
     )
 }
 
-/// The section's journal centre (B.ey against B.ex).
+/// The section's journal centre (B.ey against B.ex), on axes that span at least the radial
+/// clearance `clearance` (m), as `linkdyn plot poincare` draws them: a converged section is
+/// one point, which autoscaling would spread over its round-off.
 pub fn poincare(
     dir: &Path,
     figure: &str,
     variant: &str,
     panel: &str,
     s: &ModelSection,
+    clearance: f64,
     caption: &str,
 ) -> FigureFile {
     let mut names = vec!["turn", "t"];
@@ -147,7 +150,7 @@ pub fn poincare(
         variant,
         panel,
         caption,
-        figures::poincare(&t, "B.ex", "B.ey", None),
+        figures::poincare(&t, "B.ex", "B.ey", Some(clearance)),
     )
 }
 

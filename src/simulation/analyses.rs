@@ -865,6 +865,9 @@ pub fn lyapunov(sim: &Simulation, spec: &LyapunovSpec) -> Result<LyapunovEstimat
 pub struct Sweep<'a> {
     /// The model file.
     pub model_path: &'a Path,
+    /// The model's text where it did not come from a file (a model built in Python): each
+    /// point then loads this text, naming `model_path` in messages, instead of reading the file.
+    pub model_text: Option<&'a str>,
     /// The `--set` overrides of every point (before the parameter's).
     pub overrides: &'a [String],
     /// The swept field, a `--set` path (`joints.B.clearance`).
@@ -890,7 +893,12 @@ impl Sweep<'_> {
     pub fn simulation(&self, value: f64) -> Result<Simulation> {
         let mut overrides = self.overrides.to_vec();
         overrides.push(self.override_for(value));
-        let model = crate::model::load(self.model_path, &overrides)?;
+        let model = match self.model_text {
+            Some(text) => {
+                crate::model::load_str(text, &self.model_path.display().to_string(), &overrides)?
+            }
+            None => crate::model::load(self.model_path, &overrides)?,
+        };
         let options = SimulationOptions {
             end: EndTime::DriverTurns(self.section.turns as f64),
             ..self.options.clone()

@@ -1,0 +1,114 @@
+//! A slider (a body with one point and no `shapes`) and a prismatic joint's rail are drawn by
+//! default, where the trajectory puts them: in models/slider_crank.toml the slider is a square
+//! block of side `SLIDER_BLOCK_FRACTION` × the longest body (the 0.3 m rod) about its point B,
+//! and the rail a grey line along the x axis through the ground point that reaches a block
+//! beyond the slider's farthest place in the run. Before, a body with one point was a polyline
+//! of one point (nothing on screen) and no rail was drawn.
+
+mod animate_common;
+
+use animate_common::{near, pixel_of, point_at, rgb_at};
+use linkdyn::animate::{
+    Animation, AnimationOptions, BACKGROUND, GROUND, SLIDER_BLOCK_FRACTION, body_colour,
+    raster::rgb_pixels,
+};
+use linkdyn::plot::Table;
+use linkdyn::simulation::{Simulation, SimulationOptions};
+
+/// The pixels tested lie a third of a block (about 20 px) inside the block's edges or on the
+/// 3 px rail's centre line, away from anti-aliased edges: a unit of rounding is the tolerance.
+const COLOUR_TOL: u8 = 1;
+
+/// The slider-crank run for one crank turn, as the table `linkdyn run` would write.
+fn slider_crank() -> (linkdyn::model::Model, Table) {
+    let model = match linkdyn::model::load("models/slider_crank.toml".as_ref(), &[]) {
+        Ok(m) => m,
+        Err(e) => panic!("{e}"),
+    };
+    let sim = match Simulation::new(&model, SimulationOptions::default().revs(1.0).dt(1e-4)) {
+        Ok(s) => s,
+        Err(e) => panic!("{e}"),
+    };
+    let run = match sim.run_to_memory() {
+        Ok(r) => r,
+        Err(e) => panic!("{e}"),
+    };
+    let mut names = vec!["t".to_string()];
+    names.extend(run.names.iter().cloned());
+    let mut columns = vec![run.t];
+    columns.extend(run.columns);
+    let table = Table {
+        path: "models/slider_crank.toml".into(),
+        comments: Vec::new(),
+        names,
+        columns,
+    };
+    (model, table)
+}
+
+#[test]
+fn slider_block_and_rail_are_drawn_where_the_run_puts_them() {
+    let (model, run) = slider_crank();
+    let options = AnimationOptions {
+        duration: Some(1.0),
+        fps: 8.0,
+        ..AnimationOptions::default()
+    };
+    let movie = match Animation::build(&model, &run, &options) {
+        Ok(m) => m,
+        Err(e) => panic!("{e}"),
+    };
+    let width = movie.view.size.0 as usize;
+    // The rod, crank to slider pin: 0.3 m, the longest body.
+    let block = SLIDER_BLOCK_FRACTION * 0.3;
+    let slider = model
+        .bodies
+        .iter()
+        .position(|b| b.name == "slider")
+        .unwrap_or_else(|| panic!("no body named slider"));
+    let Ok(xs) = run.column("slider.x") else {
+        panic!("no column slider.x")
+    };
+    let farthest = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let nearest = xs.iter().copied().fold(f64::INFINITY, f64::min);
+    // The rail runs along y = 0 from the ground point (0, 0): the slider stays on it.
+    assert!(
+        (0.19..0.21).contains(&nearest) && (0.39..0.41).contains(&farthest),
+        "an in-line slider-crank with a 0.1 m crank and a 0.3 m rod slides between 0.2 and 0.4 m, got {nearest} to {farthest}"
+    );
+    for frame in &movie.frames {
+        let rgb = match rgb_pixels(&frame.picture) {
+            Ok(p) => p,
+            Err(e) => panic!("{e}"),
+        };
+        // Inside the block, a third of a side ahead of B (the rod comes from behind it).
+        let inside = pixel_of(
+            &movie.view,
+            point_at(&run, "slider", [block / 3.0, 0.0], frame.t),
+        );
+        let c = rgb_at(&rgb, width, inside);
+        assert!(
+            near(c, body_colour(slider), COLOUR_TOL),
+            "t = {} s: pixel {inside:?} in the slider block is {c:?}, expected {:?}",
+            frame.t,
+            body_colour(slider)
+        );
+        // The rail, three quarters of a block beyond the farthest slider centre: past the
+        // block's edge (half a side) and short of the rail's end (a whole side).
+        let rail = pixel_of(&movie.view, [farthest + 0.75 * block, 0.0]);
+        let c = rgb_at(&rgb, width, rail);
+        assert!(
+            near(c, GROUND, COLOUR_TOL),
+            "t = {} s: rail pixel {rail:?} is {c:?}, expected the rail's grey {GROUND:?}",
+            frame.t
+        );
+        // And nothing beyond the rail's end (a block and a half past the farthest centre).
+        let past = pixel_of(&movie.view, [farthest + 1.5 * block, 0.0]);
+        let c = rgb_at(&rgb, width, past);
+        assert!(
+            near(c, BACKGROUND, COLOUR_TOL),
+            "t = {} s: pixel {past:?} past the rail's end is {c:?}, expected background",
+            frame.t
+        );
+    }
+}
