@@ -99,8 +99,9 @@ impl ClearanceJoint {
 
     /// Deepest penetration any contact law here is used at: a tenth of the journal radius (m).
     /// Hertzian contact assumes δ ≪ R; far beyond it the force is meaningless.
+    /// A law with a range of its own (Johnson's relation, see [`laws::johnson`]) lowers it.
     pub fn max_penetration(&self) -> f64 {
-        0.1 * self.journal_radius
+        (0.1 * self.journal_radius).min(self.law.elastic.max_penetration())
     }
 
     /// Bearing radius R_B = R_J + c (m).
@@ -164,7 +165,7 @@ impl ClearanceJoint {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{ContactLawKind, Material};
+    use crate::model::{ContactLawKind, DampingKind, Material};
 
     fn joint(friction: FrictionSpec) -> ClearanceJoint {
         let steel = Material {
@@ -178,6 +179,8 @@ mod tests {
             journal_material: steel,
             stiffness_override: None,
             law: ContactLawKind::LankaraniNikravesh,
+            damping: DampingKind::LankaraniNikravesh,
+            length: None,
             restitution: 0.9,
             exponent: 1.5,
             friction,
@@ -206,7 +209,7 @@ mod tests {
         assert!((kin.delta - 1e-5).abs() < 1e-18);
         assert!((kin.tangential_velocity - 0.5).abs() < 1e-15);
         let f = j.forces(&kin, 0.2);
-        let f_n = j.law.stiffness * 1e-5_f64.powf(1.5) * (1.0 + 0.1425 * 0.5);
+        let f_n = j.law.elastic_force(1e-5) * (1.0 + 0.1425 * 0.5);
         assert!(
             (f.normal_force - f_n).abs() < 1e-9 * f_n,
             "F_N = {}, expected {f_n}",

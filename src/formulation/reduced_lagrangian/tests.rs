@@ -414,7 +414,10 @@ fn printed_equations_agree_with_derivation() {
     let rb = rj + c;
     let (cf, v0, v1) = (0.1, 1e-4, 1e-3);
     let r = reduced(&Variant::default());
-    let k = r.joint.law.stiffness;
+    let linkdyn_law = r.joint.law.elastic;
+    let crate::contact::laws::Elastic::Power { stiffness: k, .. } = linkdyn_law else {
+        panic!("the reference joint has a power law");
+    };
     let chi = 0.75 * (1.0 - 0.81);
     let mut rng = Lcg(5);
     let mut regions = [0usize; 3];
