@@ -352,13 +352,25 @@ impl ContactLaw {
                 delta_dot,
                 impact_velocity,
             ),
-            line => {
-                if delta.is_nan() || delta <= 0.0 {
-                    return 0.0;
-                }
-                damped_force(line.force(delta), self.chi, delta_dot, impact_velocity)
-            }
+            _ => self.line_normal_force(delta, delta_dot, impact_velocity),
         }
+    }
+
+    /// [`ContactLaw::normal_force`] of the line-contact laws, kept out of line: inlined, their
+    /// solves would grow the right-hand sides of every run, and the point-contact laws' runs
+    /// then lost the inlining of the force evaluation (+1.9 % instructions on the reference
+    /// run, measured with callgrind).
+    #[inline(never)]
+    fn line_normal_force(&self, delta: f64, delta_dot: f64, impact_velocity: f64) -> f64 {
+        if delta.is_nan() || delta <= 0.0 {
+            return 0.0;
+        }
+        damped_force(
+            self.elastic.force(delta),
+            self.chi,
+            delta_dot,
+            impact_velocity,
+        )
     }
 
     /// dF_N/dt (N/s) along a motion (δ, δ̇, δ̈) with the stored impact velocity `stored` (≤ 0:
