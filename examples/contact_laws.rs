@@ -57,6 +57,8 @@ fn main() -> Result<(), String> {
         Axis {
             label: "elastic normal force F_e (N)".into(),
             log: true,
+            // Room above the curves for the legend.
+            range: Some((0.03, 1e7)),
             ..Axis::default()
         },
     );

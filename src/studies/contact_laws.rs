@@ -76,39 +76,41 @@ pub fn compare_contact_laws(
     if laws.is_empty() {
         return Err(Error::settings("laws", "expected at least one contact law"));
     }
+    // The scene itself first: a joint that is not a clearance joint would otherwise be
+    // reported as a `contact` table it may not have.
+    let scene = crate::model::load(path, sets)?;
+    let is_clearance = scene
+        .joints
+        .iter()
+        .any(|j| j.name == joint && matches!(j.kind, JointKind::Clearance(_)));
+    if !is_clearance {
+        return Err(Error::settings(
+            "joint",
+            format!("expected the name of a clearance joint of the model, found \"{joint}\""),
+        ));
+    }
+    let [driver] = scene.drivers.as_slice() else {
+        return Err(Error::settings(
+            "model",
+            format!(
+                "expected a model with one driver (its torque is compared), found {}",
+                scene.drivers.len()
+            ),
+        ));
+    };
+    let driver = driver.name.clone();
     let mut sims = Vec::with_capacity(laws.len());
     for law in laws {
         let mut all = sets.to_vec();
         all.extend(law_overrides(joint, law));
         let model = crate::model::load(path, &all)?;
-        let is_clearance = model
-            .joints
-            .iter()
-            .any(|j| j.name == joint && matches!(j.kind, JointKind::Clearance(_)));
-        if !is_clearance {
-            return Err(Error::settings(
-                "joint",
-                format!("expected the name of a clearance joint of the model, found \"{joint}\""),
-            ));
-        }
-        let [driver] = model.drivers.as_slice() else {
-            return Err(Error::settings(
-                "model",
-                format!(
-                    "expected a model with one driver (its torque is compared), found {}",
-                    model.drivers.len()
-                ),
-            ));
-        };
-        let driver = driver.name.clone();
-        sims.push((Simulation::new(&model, options.clone())?, driver));
+        sims.push(Simulation::new(&model, options.clone())?);
     }
-    let driver = sims[0].1.clone();
     let torque_column = format!("{driver}.torque");
     let mut runs = Vec::with_capacity(laws.len());
     let mut reference: Option<Vec<f64>> = None;
     let mut provenance = None;
-    for ((sim, _), law) in sims.iter().zip(laws) {
+    for (sim, law) in sims.iter().zip(laws) {
         let run = sim.run_to_memory()?;
         let torque = run
             .column(&torque_column)
@@ -148,7 +150,7 @@ pub fn compare_contact_laws(
     Ok(LawComparison {
         joint: joint.to_string(),
         driver,
-        provenance: provenance.unwrap_or_else(|| sims[0].0.provenance()),
+        provenance: provenance.unwrap_or_else(|| sims[0].provenance()),
         runs,
     })
 }
