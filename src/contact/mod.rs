@@ -13,7 +13,8 @@
 //!    δ̇ = ė·n and slip velocity v_t = (v_PJ − v_PB)·t.
 //! 2. **Normal force** ([`laws`], paper eq. 7): F_N = K δⁿ (1 + χ(c_r) δ̇/δ̇⁽⁻⁾) ≥ 0 with χ
 //!    of Lankarani–Nikravesh (ref. 1), Hunt–Crossley (ref. 2), Flores et al. (ref. 3) or Hertz
-//!    (χ = 0).
+//!    (χ = 0); or a line-contact elastic part in place of K δⁿ (Johnson's, Liu et al.'s: see
+//!    [`laws::johnson`], [`laws::liu`]) with any of these χ.
 //! 3. **Stiffness** ([`stiffness`], paper eqs. 8–9):
 //!    K = 4/(3(σ_J + σ_B)) sqrt(R_J R_B/(R_B − R_J)), σ = (1 − ν²)/E.
 //! 4. **Friction** ([`friction`], paper eqs. 10–11 with eq. 11 corrected): Ambrósio's modified

@@ -1,7 +1,11 @@
-//! Normal contact-force laws of the form F_N = K δⁿ (1 + χ δ̇/δ̇⁽⁻⁾) (paper eq. 7).
+//! Normal contact-force laws of the form F_N = F_e(δ) (1 + χ δ̇/δ̇⁽⁻⁾) (paper eq. 7 with
+//! F_e = K δⁿ).
 //!
-//! All four laws share the Hertzian elastic part K δⁿ and differ only in the hysteresis factor χ,
-//! a function of the coefficient of restitution c_r:
+//! Every law is an elastic part F_e(δ) ([`Elastic`]) and a hysteresis factor χ(c_r). The four
+//! point-contact laws share the Hertzian elastic part K δⁿ and differ only in χ; the two
+//! line-contact laws, [`johnson`] (Johnson's cylinder in a cylindrical hole, implicit in δ) and
+//! [`liu`] (Liu et al.'s conformal contact), need the bearing's axial length and take any of the
+//! four χ (`damping` in the model file; docs/contact_laws.md compares them all):
 //!
 //! | law | χ(c_r) | file |
 //! |---|---|---|
@@ -23,7 +27,7 @@
 //! Sign convention: F_N ≥ 0 is the magnitude of the push; it acts on the journal as −F_N n and on
 //! the bearing as +F_N n, n = e/|e| (see [`crate::contact::kinematics`]).
 //!
-//! Rules shared by every law (implemented once, in [`hysteresis_force`]):
+//! Rules shared by every law (implemented once, in [`damped_force`]):
 //! - F_N = 0 for δ ≤ 0 (no contact), so the force is continuous at the start of contact.
 //! - F_N is clamped at 0 from below. The damping term is negative during restitution (δ̇ < 0) and
 //!   for δ̇/δ̇⁽⁻⁾ < −1/χ it would make the bodies pull each other, which a dry contact cannot do.
