@@ -487,10 +487,15 @@ impl Builder<'_, '_> {
                     ));
                 }
                 (_, DampingKind::Flores) if restitution < MIN_FLORES_RESTITUTION => {
+                    let whose = if law.is_line_contact() {
+                        "damping"
+                    } else {
+                        "law"
+                    };
                     return Err(self.err(
                         v.span(),
                         format!(
-                            "expected a coefficient of restitution of at least {MIN_FLORES_RESTITUTION} for the flores law, found {restitution}: its damping factor 8(1 − c_r)/(5 c_r) grows as 1/c_r (c_r = 1e-4 costs 56× the work of 0.9, 1e-5 475×), and c_r < 0.01 is a plastic impact that no continuous contact law describes"
+                            "expected a coefficient of restitution of at least {MIN_FLORES_RESTITUTION} for the flores {whose}, found {restitution}: its damping factor 8(1 − c_r)/(5 c_r) grows as 1/c_r (c_r = 1e-4 costs 56× the work of 0.9, 1e-5 475×), and c_r < 0.01 is a plastic impact that no continuous contact law describes"
                         ),
                     ));
                 }
