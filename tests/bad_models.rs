@@ -581,7 +581,7 @@ fn switching_the_contact_law_with_one_set_drops_the_old_fields_with_a_note() {
         err.as_deref(),
         Some(concat!(
             env!("CARGO_MANIFEST_DIR"),
-            "/models/farahan2016.toml:71:7: joints.B.contact.law: unknown contact law \"hertzian\"; expected one of lankarani-nikravesh, hunt-crossley, flores, hertz (value from --set joints.B.contact.law=hertzian)"
+            "/models/farahan2016.toml:71:7: joints.B.contact.law: unknown contact law \"hertzian\"; expected one of lankarani-nikravesh, hunt-crossley, flores, hertz, johnson, liu (value from --set joints.B.contact.law=hertzian)"
         ))
     );
 }

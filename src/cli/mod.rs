@@ -12,6 +12,7 @@ mod bifurcation;
 mod check;
 mod clean;
 mod compare;
+mod compare_laws;
 mod interrupt;
 mod lyapunov;
 mod merge;
@@ -51,6 +52,9 @@ enum Command {
     Run(run::RunArgs),
     /// Run the DAE and the reduced formulation with the same settings; print their differences.
     Compare(compare::CompareArgs),
+    /// Run one scene once per contact law of a clearance joint; print and write peak forces,
+    /// impact counts and the driver torque's RMS difference per law.
+    CompareLaws(compare_laws::CompareLawsArgs),
     /// Poincaré section once per driver turn (CSV `turn,t,<cols>`) and its period verdict.
     Poincare(poincare::PoincareArgs),
     /// Bifurcation diagram: sweep a model field, record a column once per turn at each value.
@@ -273,6 +277,7 @@ pub fn main() -> ExitCode {
         Command::Check(args) => check::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::CompareLaws(args) => compare_laws::run(&args),
         Command::Poincare(args) => poincare::run(&args),
         Command::Bifurcation(args) => bifurcation::run(&args),
         Command::Merge(args) => merge::run(&args),

@@ -56,7 +56,7 @@ enum Format {
     Mat,
 }
 
-fn parse_formulation(s: &str) -> Result<FormulationKind, String> {
+pub(super) fn parse_formulation(s: &str) -> Result<FormulationKind, String> {
     s.parse().map_err(|e: linkdyn::Error| e.to_string())
 }
 

@@ -23,6 +23,10 @@
 //! a kink of a law (δ = 0, the friction ramp's ends v0, v1) inside an increment gives the mean of
 //! the one-sided slopes, which serves a simplified Newton iteration as well as either.
 //!
+//! The line-contact laws (Johnson's, implicit in δ, and Liu's) give their slopes in closed form
+//! instead ([`crate::contact::ContactLaw::line_slopes`]); the power laws keep the central
+//! differences, so that their runs stay bit-identical.
+//!
 //! The stored impact velocity enters only through the law: ∂F_N/∂δ̇⁽⁻⁾ where one is stored
 //! (> 0); otherwise F_N uses the current δ̇ as impact velocity
 //! ([`impact_velocity`]), so δ̇ enters the law twice.
@@ -84,15 +88,28 @@ impl LawSlopes {
     pub fn at(joint: &ClearanceJoint, kin: &ContactKinematics, stored: f64, normal: f64) -> Self {
         let v_imp = impact_velocity(stored, kin.delta_dot);
         let law = |delta: f64, delta_dot: f64, v: f64| joint.law.normal_force(delta, delta_dot, v);
-        let normal_delta = central(|x| law(x, kin.delta_dot, v_imp), kin.delta, 1e-10);
+        let analytic = joint.law.line_slopes(kin.delta, kin.delta_dot, v_imp);
         // δ̇ enters twice without a stored impact velocity (rate and impact velocity).
-        let (normal_rate, normal_stored) = if stored > 0.0 {
+        let (normal_delta, normal_rate, normal_stored) = if let Some((d, r, s)) = analytic {
+            if stored > 0.0 {
+                (d, r, s)
+            } else {
+                (d, r + s, 0.0)
+            }
+        } else if stored > 0.0 {
+            let normal_delta = central(|x| law(x, kin.delta_dot, v_imp), kin.delta, 1e-10);
             (
+                normal_delta,
                 central(|x| law(kin.delta, x, stored), kin.delta_dot, 1e-7),
                 central(|x| law(kin.delta, kin.delta_dot, x), stored, 1e-7),
             )
         } else {
-            (central(|x| law(kin.delta, x, x), kin.delta_dot, 1e-7), 0.0)
+            let normal_delta = central(|x| law(x, kin.delta_dot, v_imp), kin.delta, 1e-10);
+            (
+                normal_delta,
+                central(|x| law(kin.delta, x, x), kin.delta_dot, 1e-7),
+                0.0,
+            )
         };
         let v_t = kin.tangential_velocity;
         let friction = |f_n: f64, v: f64| friction_force(&joint.friction, f_n, v);

@@ -8,7 +8,6 @@
 //! time, and the same run gives the same numbers.
 
 use super::FormulationError;
-use crate::contact::laws::penetration_power;
 use crate::contact::{
     CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, free_flight_max_step,
     impact_velocity, kinks,
@@ -240,9 +239,8 @@ impl ContactSites {
                 });
             }
             if dissipation {
-                // Power of the contact forces −F_N δ̇ + F_T v_t minus its elastic part −K δⁿ δ̇.
-                let law = &site.contact.law;
-                let elastic = law.stiffness * penetration_power(s.kinematics.delta, law.exponent);
+                // Power of the contact forces −F_N δ̇ + F_T v_t minus its elastic part −F_e δ̇.
+                let elastic = site.contact.law.elastic_force(s.kinematics.delta);
                 dissipated -= s.forces.power + elastic * s.kinematics.delta_dot;
             }
             if s.forces.normal_force == 0.0 {
@@ -267,14 +265,14 @@ impl ContactSites {
         Ok(dissipated)
     }
 
-    /// Elastic energy stored in the contacts, Σ K δⁿ⁺¹/(n + 1) over the joints in contact (J).
+    /// Elastic energy stored in the contacts, Σ ∫₀^δ F_e dδ over the joints in contact (J); for
+    /// the power laws K δⁿ⁺¹/(n + 1).
     pub fn elastic_energy(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> f64 {
         let mut energy = 0.0;
         for (k, site) in self.sites.iter().enumerate() {
             let delta = self.site_kinematics(k, q, v, sin_cos).2.delta;
             if delta > 0.0 {
-                let law = &site.contact.law;
-                energy += law.stiffness * delta.powf(law.exponent + 1.0) / (law.exponent + 1.0);
+                energy += site.contact.law.elastic_energy(delta);
             }
         }
         energy

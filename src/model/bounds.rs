@@ -69,6 +69,14 @@ pub const MIN_JOURNAL_RADIUS: f64 = 1e-6;
 /// about 1 m in radius.
 pub const MAX_JOURNAL_RADIUS: f64 = 10.0;
 
+/// Smallest axial bearing length L (m): as [`MIN_JOURNAL_RADIUS`], the pins of
+/// micro-mechanisms are a few µm long.
+pub const MIN_BEARING_LENGTH: f64 = 1e-6;
+
+/// Largest axial bearing length L (m): as [`MAX_JOURNAL_RADIUS`], ship-shaft and turbine
+/// bearings are about a metre long.
+pub const MAX_BEARING_LENGTH: f64 = 10.0;
+
 /// Smallest radial clearance c (m): 1 nm, the roughness of the best polished surfaces; below it
 /// a rigid-surface contact between journal and bearing means nothing. (The largest clearance is
 /// the journal radius itself, checked where both are known: a bearing of more than twice the

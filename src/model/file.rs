@@ -289,6 +289,8 @@ pub struct JointFile {
     pub clearance: Option<Num>,
     /// Clearance: journal radius R_J (m).
     pub journal_radius: Option<Num>,
+    /// Clearance: axial length L of the bearing (m); required by the line-contact laws.
+    pub length: Option<Num>,
     /// Clearance: Young's modulus shared by journal and bearing (Pa).
     pub youngs_modulus: Option<Num>,
     /// Clearance: Poisson ratio shared by journal and bearing.
@@ -323,8 +325,11 @@ pub struct MaterialFile {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactFile {
-    /// "lankarani-nikravesh" (default) | "hunt-crossley" | "flores" | "hertz".
+    /// "lankarani-nikravesh" (default) | "hunt-crossley" | "flores" | "hertz" | "johnson" | "liu".
     pub law: Option<Name>,
+    /// Line-contact laws: the hysteresis factor, "lankarani-nikravesh" (default) |
+    /// "hunt-crossley" | "flores" | "none".
+    pub damping: Option<Name>,
     /// Coefficient of restitution c_r (default 0.9).
     pub restitution: Option<Num>,
     /// Exponent n (default 1.5).

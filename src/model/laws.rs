@@ -4,13 +4,19 @@
 //! `--set` (switching the law drops the fields only the old law took, with a note).
 
 /// Contact laws and the fields of `[joints.contact]` each takes. Hertz is purely elastic, so it
-/// takes no coefficient of restitution.
+/// takes no coefficient of restitution; the line-contact laws (johnson, liu) have their own
+/// exponent and take the hysteresis factor as `damping`.
 pub const CONTACT: &[(&str, &[&str])] = &[
     ("lankarani-nikravesh", &["law", "restitution", "exponent"]),
     ("hunt-crossley", &["law", "restitution", "exponent"]),
     ("flores", &["law", "restitution", "exponent"]),
     ("hertz", &["law", "exponent"]),
+    ("johnson", &["law", "damping", "restitution"]),
+    ("liu", &["law", "damping", "restitution"]),
 ];
+
+/// Hysteresis factors a line-contact law can take as `damping`.
+pub const DAMPING: &[&str] = &["lankarani-nikravesh", "hunt-crossley", "flores", "none"];
 
 /// Friction laws and the fields of `[joints.friction]` each takes.
 pub const FRICTION: &[(&str, &[&str])] = &[

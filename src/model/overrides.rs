@@ -5,7 +5,8 @@
 //! file applies to an overridden value too.
 //!
 //! Switching a contact or friction law (`joints.B.friction.law=none`,
-//! `joints.B.contact.law=hertz`) also drops the fields of that table the new law does not take
+//! `joints.B.contact.law=hertz`, or a line-contact law's `joints.B.contact.damping=none`) also
+//! drops the fields of that table the new law does not take
 //! (the `coefficient` left behind by Ambrósio's law would otherwise be refused), and each drop
 //! is reported as a note. A field set again by a later `--set` is then an error as in a file.
 
@@ -68,6 +69,9 @@ pub fn apply(
 /// the new law does not take and says which. `None` if nothing was dropped, or if the law is
 /// unknown (validation names it then).
 fn drop_fields_of_old_law(doc: &mut Table, keys: &[&str]) -> Option<String> {
+    if let [.., "contact", "damping"] = keys {
+        return drop_restitution_of_undamped(doc, keys.get(..keys.len() - 1)?);
+    }
     let (table_keys, kind) = match keys {
         [.., kind, "law"] if *kind == "contact" || *kind == "friction" => {
             (keys.get(..keys.len() - 1)?, *kind)
@@ -99,6 +103,20 @@ fn drop_fields_of_old_law(doc: &mut Table, keys: &[&str]) -> Option<String> {
     Some(format!(
         "dropped {} from {}, which {kind} law \"{law}\" does not take",
         listed.join(", "),
+        table_keys.join(".")
+    ))
+}
+
+/// After `….contact.damping=none`: removes the coefficient of restitution, which an undamped
+/// (purely elastic) line-contact law does not take, as switching to the hertz law does.
+fn drop_restitution_of_undamped(doc: &mut Table, table_keys: &[&str]) -> Option<String> {
+    let table = table_at(doc, table_keys)?;
+    if table.get("damping")?.as_str()? != "none" {
+        return None;
+    }
+    let value = table.remove("restitution")?;
+    Some(format!(
+        "dropped restitution = {value} from {}, which damping \"none\" does not take",
         table_keys.join(".")
     ))
 }

@@ -104,6 +104,45 @@ pub enum ContactLawKind {
     Flores,
     /// Hertz: elastic, no damping.
     Hertz,
+    /// Johnson's line contact of a cylinder in a cylindrical hole (needs the bearing length).
+    Johnson,
+    /// Liu et al.'s conformal line contact (needs the bearing length).
+    Liu,
+}
+
+impl ContactLawKind {
+    /// The name as written in model files.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactLawKind::LankaraniNikravesh => "lankarani-nikravesh",
+            ContactLawKind::HuntCrossley => "hunt-crossley",
+            ContactLawKind::Flores => "flores",
+            ContactLawKind::Hertz => "hertz",
+            ContactLawKind::Johnson => "johnson",
+            ContactLawKind::Liu => "liu",
+        }
+    }
+
+    /// True for the line-contact laws, whose elastic part needs the bearing's axial length and
+    /// whose hysteresis factor is chosen separately (`damping`).
+    pub fn is_line_contact(self) -> bool {
+        matches!(self, ContactLawKind::Johnson | ContactLawKind::Liu)
+    }
+}
+
+/// Hysteresis damping factor χ(c_r) of a contact law (see `contact::laws`): fixed by each
+/// point-contact law, chosen with `damping` for the line-contact laws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DampingKind {
+    /// Lankarani–Nikravesh (1990): χ = 3(1 − c_r²)/4.
+    LankaraniNikravesh,
+    /// Hunt–Crossley (1975): χ = 3(1 − c_r)/2.
+    HuntCrossley,
+    /// Flores et al. (2011): χ = 8(1 − c_r)/(5 c_r).
+    Flores,
+    /// No damping: χ = 0.
+    None,
 }
 
 /// Friction law of a clearance joint.
@@ -157,6 +196,11 @@ pub struct ClearanceSpec {
     pub stiffness_override: Option<f64>,
     /// Normal-force law.
     pub law: ContactLawKind,
+    /// Hysteresis factor of the law (fixed by the point-contact laws).
+    pub damping: DampingKind,
+    /// Axial length L of the bearing (m), if given; required by the line-contact laws.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub length: Option<f64>,
     /// Coefficient of restitution c_r ∈ (0, 1].
     pub restitution: f64,
     /// Exponent n of the penetration.

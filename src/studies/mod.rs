@@ -4,15 +4,18 @@
 //!
 //! | file | job |
 //! |---|---|
+//! | [`contact_laws`] | one scene run once per contact law of a clearance joint, compared |
 //! | [`formulations`] | the DAE and the reduced formulation of one model, run and compared |
 //! | [`orbit`](mod@orbit) | a periodic orbit by shooting, its Floquet multipliers and one period of it |
 //! | [`stress`] | stress table: extreme cases × formulations × methods, a verdict each |
 //! | [`workprecision`] | error against cost for every formulation × method × tolerance |
 
+pub mod contact_laws;
 pub mod formulations;
 pub mod orbit;
 pub mod stress;
 pub mod workprecision;
 
+pub use contact_laws::{LawComparison, compare_contact_laws};
 pub use formulations::{FormulationComparison, compare_formulations};
 pub use orbit::{OrbitPeriod, OrbitRequest, OrbitResult, orbit};

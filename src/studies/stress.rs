@@ -345,6 +345,22 @@ pub fn cases(quick: bool) -> Vec<StressCase> {
             &["joints.B.contact.law=hertz"],
         ),
     ));
+    // The line-contact laws (docs/contact_laws.md), each with its default damping, at the
+    // extremes of the clearance where they differ most from the point-contact laws.
+    for law in ["johnson", "liu"] {
+        for (name, clearance) in [
+            ("c=0.5mm", None),
+            ("c=1um", Some("joints.B.clearance=1e-6")),
+        ] {
+            let law_set = format!("joints.B.contact.law={law}");
+            let mut sets = vec!["joints.B.length=0.02", law_set.as_str()];
+            sets.extend(clearance);
+            all.push((
+                false,
+                case("contact law", &format!("{law} {name}"), fb, &sets),
+            ));
+        }
+    }
     // The slider-crank at the extremes (its joint B: the wrist pin).
     for (axis, name, set) in [
         ("clearance", "c=1um", "joints.B.clearance=1e-6"),

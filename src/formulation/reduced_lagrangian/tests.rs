@@ -13,6 +13,8 @@ struct Variant {
     friction: &'static str,
     reversed_driver: bool,
     extra: &'static str,
+    /// Joint fields and `[joints.contact]` lines of joint B ("" = the default law).
+    contact: &'static str,
 }
 
 impl Default for Variant {
@@ -23,6 +25,7 @@ impl Default for Variant {
             friction: "law = \"ambrosio\"\ncoefficient = 0.1\nv0 = 1e-4\nv1 = 1e-3",
             reversed_driver: false,
             extra: "",
+            contact: "",
         }
     }
 }
@@ -99,8 +102,8 @@ fn model_text(v: &Variant) -> String {
         ("rocker", "coupler")
     };
     text += &format!(
-        "[[joints]]\nname = \"B\"\ntype = \"clearance\"\nbearing = \"{bearing}\"\nbearing_point = \"B\"\njournal = \"{journal}\"\njournal_point = \"B\"\nclearance = 0.5e-3\njournal_radius = 0.01\n[joints.friction]\n{}\n",
-        v.friction
+        "[[joints]]\nname = \"B\"\ntype = \"clearance\"\nbearing = \"{bearing}\"\nbearing_point = \"B\"\njournal = \"{journal}\"\njournal_point = \"B\"\nclearance = 0.5e-3\njournal_radius = 0.01\n{}[joints.friction]\n{}\n",
+        v.contact, v.friction
     );
     text += "[[joints]]\nname = \"O4\"\ntype = \"revolute\"\nbody_a = \"ground\"\npoint_a = \"O4\"\nbody_b = \"rocker\"\npoint_b = \"O4\"\n";
     // The driver prescribes the crank's body angle φ; θ2 = 0 at t = 0 needs φ = ψ_crank.
@@ -414,7 +417,10 @@ fn printed_equations_agree_with_derivation() {
     let rb = rj + c;
     let (cf, v0, v1) = (0.1, 1e-4, 1e-3);
     let r = reduced(&Variant::default());
-    let k = r.joint.law.stiffness;
+    let linkdyn_law = r.joint.law.elastic;
+    let crate::contact::laws::Elastic::Power { stiffness: k, .. } = linkdyn_law else {
+        panic!("the reference joint has a power law");
+    };
     let chi = 0.75 * (1.0 - 0.81);
     let mut rng = Lcg(5);
     let mut regions = [0usize; 3];
@@ -750,6 +756,16 @@ fn analytic_jacobian_matches_central_differences() {
                 (2.0, [-0.04, 0.01]),
             ],
             extra,
+            ..Variant::default()
+        },
+        // The line-contact laws: closed-form slopes of F_N (Johnson's by the implicit function
+        // theorem) instead of central differences of the law.
+        Variant {
+            contact: "length = 0.02\n[joints.contact]\nlaw = \"johnson\"\ndamping = \"hunt-crossley\"\n",
+            ..Variant::default()
+        },
+        Variant {
+            contact: "length = 0.02\n[joints.contact]\nlaw = \"liu\"\ndamping = \"flores\"\n",
             ..Variant::default()
         },
     ];

@@ -28,6 +28,7 @@ impl Builder<'_, '_> {
                 ("journal_point", sp(&j.journal_point)),
                 ("clearance", sn(&j.clearance)),
                 ("journal_radius", sn(&j.journal_radius)),
+                ("length", sn(&j.length)),
                 ("youngs_modulus", sn(&j.youngs_modulus)),
                 ("poisson_ratio", sn(&j.poisson_ratio)),
                 (
@@ -92,6 +93,7 @@ impl Builder<'_, '_> {
                         "journal_point",
                         "clearance",
                         "journal_radius",
+                        "length",
                         "youngs_modulus",
                         "poisson_ratio",
                         "bearing_material",
@@ -293,7 +295,23 @@ impl Builder<'_, '_> {
                 e
             }
         };
-        let (law, restitution, exponent) = self.contact(j.contact.as_ref())?;
+        let length = j
+            .length
+            .as_ref()
+            .map(|v| {
+                self.within(
+                    v,
+                    "bearing length (m)",
+                    MIN_BEARING_LENGTH,
+                    MAX_BEARING_LENGTH,
+                    "from micro-mechanism pins to ship-shaft bearings",
+                )
+            })
+            .transpose()?;
+        let (law, damping, restitution, exponent) = self.contact(j.contact.as_ref())?;
+        if law.is_line_contact() {
+            self.line_contact_needs(j, law, length, what, at.clone())?;
+        }
         let friction = self.friction(j.friction.as_ref())?;
         Ok(ClearanceSpec {
             clearance,
@@ -302,6 +320,8 @@ impl Builder<'_, '_> {
             journal_material,
             stiffness_override,
             law,
+            damping,
+            length,
             restitution,
             exponent,
             friction,
@@ -309,12 +329,74 @@ impl Builder<'_, '_> {
         })
     }
 
+    /// A line-contact law needs the bearing's length and takes its stiffness from the materials
+    /// and the length: refuses a missing `length` (at the law, which asks for it) and a
+    /// `stiffness` (K of the power laws, which these laws do not have).
+    fn line_contact_needs(
+        &self,
+        j: &JointFile,
+        law: ContactLawKind,
+        length: Option<f64>,
+        what: &str,
+        at: Range<usize>,
+    ) -> Res<()> {
+        let law_at = j
+            .contact
+            .as_ref()
+            .and_then(|c| c.get_ref().law.as_ref().map(|l| l.span()))
+            .unwrap_or(at);
+        if length.is_none() {
+            return Err(self.err(
+                law_at,
+                format!(
+                    "contact law \"{}\" is a line contact and needs the bearing's axial length: expected a field `length` (m, > 0) on {what}, e.g. length = 0.02",
+                    law.name()
+                ),
+            ));
+        }
+        if let Some(v) = &j.stiffness {
+            return Err(self.err(
+                v.span(),
+                format!(
+                    "field `stiffness` does not belong to contact law \"{}\": it sets K of the power laws K δⁿ, while a line-contact law's stiffness follows from the materials, the clearance and `length`; remove it, or choose lankarani-nikravesh, hunt-crossley, flores or hertz",
+                    law.name()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The hysteresis factor named by `damping` (line-contact laws only).
+    fn damping(&self, d: &Name) -> Res<DampingKind> {
+        Ok(match d.get_ref().trim() {
+            "lankarani-nikravesh" => DampingKind::LankaraniNikravesh,
+            "hunt-crossley" => DampingKind::HuntCrossley,
+            "flores" => DampingKind::Flores,
+            "none" => DampingKind::None,
+            other => {
+                return Err(self.err(
+                    d.span(),
+                    format!(
+                        "unknown damping \"{other}\"; expected one of {}{}",
+                        laws::DAMPING.join(", "),
+                        did_you_mean(other, laws::DAMPING.iter().copied())
+                    ),
+                ));
+            }
+        })
+    }
+
     pub(super) fn contact(
         &self,
         c: Option<&Spanned<ContactFile>>,
-    ) -> Res<(ContactLawKind, f64, f64)> {
+    ) -> Res<(ContactLawKind, DampingKind, f64, f64)> {
         let Some(c) = c else {
-            return Ok((ContactLawKind::LankaraniNikravesh, 0.9, 1.5));
+            return Ok((
+                ContactLawKind::LankaraniNikravesh,
+                DampingKind::LankaraniNikravesh,
+                0.9,
+                1.5,
+            ));
         };
         let f = c.get_ref();
         let law = match &f.law {
@@ -324,6 +406,8 @@ impl Builder<'_, '_> {
                 "hunt-crossley" => ContactLawKind::HuntCrossley,
                 "flores" => ContactLawKind::Flores,
                 "hertz" => ContactLawKind::Hertz,
+                "johnson" => ContactLawKind::Johnson,
+                "liu" => ContactLawKind::Liu,
                 other => {
                     let laws = laws::names(laws::CONTACT);
                     return Err(self.err(
@@ -350,11 +434,43 @@ impl Builder<'_, '_> {
                 cr
             }
         };
+        let damping = match law {
+            ContactLawKind::LankaraniNikravesh => DampingKind::LankaraniNikravesh,
+            ContactLawKind::HuntCrossley => DampingKind::HuntCrossley,
+            ContactLawKind::Flores => DampingKind::Flores,
+            ContactLawKind::Hertz => DampingKind::None,
+            ContactLawKind::Johnson | ContactLawKind::Liu => match &f.damping {
+                None => DampingKind::LankaraniNikravesh,
+                Some(d) => self.damping(d)?,
+            },
+        };
+        if let Some(d) = &f.damping
+            && !law.is_line_contact()
+        {
+            return Err(self.err(
+                d.span(),
+                format!(
+                    "field `damping` does not belong to contact law \"{}\", whose name fixes its damping; choose the law by its damping instead (lankarani-nikravesh, hunt-crossley, flores, or hertz for none), or a line-contact law (johnson, liu) to combine with a damping",
+                    law.name()
+                ),
+            ));
+        }
+        if let Some(v) = &f.exponent
+            && law.is_line_contact()
+        {
+            return Err(self.err(
+                v.span(),
+                format!(
+                    "field `exponent` does not belong to contact law \"{}\", whose force–penetration relation is fixed by its source; remove it",
+                    law.name()
+                ),
+            ));
+        }
         if let Some(v) = &f.restitution {
-            match law {
+            match (law, damping) {
                 // c_r = 1 states what Hertz is (purely elastic), so it contradicts nothing; any
                 // other value would be silently ignored.
-                ContactLawKind::Hertz if restitution != 1.0 => {
+                (ContactLawKind::Hertz, _) if restitution != 1.0 => {
                     return Err(self.err(
                         v.span(),
                         format!(
@@ -362,19 +478,32 @@ impl Builder<'_, '_> {
                         ),
                     ));
                 }
-                ContactLawKind::Flores if restitution < MIN_FLORES_RESTITUTION => {
+                (_, DampingKind::None) if restitution != 1.0 => {
                     return Err(self.err(
                         v.span(),
                         format!(
-                            "expected a coefficient of restitution of at least {MIN_FLORES_RESTITUTION} for the flores law, found {restitution}: its damping factor 8(1 − c_r)/(5 c_r) grows as 1/c_r (c_r = 1e-4 costs 56× the work of 0.9, 1e-5 475×), and c_r < 0.01 is a plastic impact that no continuous contact law describes"
+                            "field `restitution` does not apply with damping \"none\", which is purely elastic (c_r = 1), found c_r = {restitution}; remove it, or choose damping lankarani-nikravesh, hunt-crossley or flores"
+                        ),
+                    ));
+                }
+                (_, DampingKind::Flores) if restitution < MIN_FLORES_RESTITUTION => {
+                    let whose = if law.is_line_contact() {
+                        "damping"
+                    } else {
+                        "law"
+                    };
+                    return Err(self.err(
+                        v.span(),
+                        format!(
+                            "expected a coefficient of restitution of at least {MIN_FLORES_RESTITUTION} for the flores {whose}, found {restitution}: its damping factor 8(1 − c_r)/(5 c_r) grows as 1/c_r (c_r = 1e-4 costs 56× the work of 0.9, 1e-5 475×), and c_r < 0.01 is a plastic impact that no continuous contact law describes"
                         ),
                     ));
                 }
                 _ => {}
             }
         }
-        // Hertz has no damping: record c_r = 1, which is what it simulates.
-        let restitution = if law == ContactLawKind::Hertz {
+        // Hertz (and damping "none") has no damping: record c_r = 1, which is what it simulates.
+        let restitution = if damping == DampingKind::None {
             1.0
         } else {
             restitution
@@ -392,7 +521,7 @@ impl Builder<'_, '_> {
                 n
             }
         };
-        Ok((law, restitution, exponent))
+        Ok((law, damping, restitution, exponent))
     }
 
     pub(super) fn friction(&self, f: Option<&Spanned<FrictionFile>>) -> Res<FrictionSpec> {

@@ -9,7 +9,13 @@ use crate::mechanics::planar::{dot, perp};
 use crate::model::Frame;
 
 fn dae(path: &str, energy: bool) -> Dae {
-    let model = match crate::model::load(path.as_ref(), &[]) {
+    dae_with(path, &[], energy)
+}
+
+/// The DAE of the model at `path` with the `--set` overrides `sets`.
+fn dae_with(path: &str, sets: &[&str], energy: bool) -> Dae {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let model = match crate::model::load(path.as_ref(), &sets) {
         Ok(m) => m,
         Err(e) => panic!("{path}: {e}"),
     };
@@ -151,6 +157,34 @@ fn fourbar_sliding_contact() -> Result<(), FormulationError> {
     check(&d, &y, "sliding, no stored impact velocity")?;
     let y = contact_state(&d, 2e-6, 2.5, -0.03, -0.4, 0.2);
     check(&d, &y, "sliding backwards, stored 0.2 m/s")
+}
+
+/// The line-contact laws with each damping: their closed-form slopes of F_N (Johnson's by the
+/// implicit function theorem) inside the analytic Jacobian, sliding and receding, with and
+/// without a stored impact velocity.
+#[test]
+fn fourbar_line_contact_laws() -> Result<(), FormulationError> {
+    for law in ["johnson", "liu"] {
+        for damping in ["lankarani-nikravesh", "hunt-crossley", "flores"] {
+            let sets = [
+                "joints.B.length=0.02".to_string(),
+                format!("joints.B.contact.law={law}"),
+                format!("joints.B.contact.damping={damping}"),
+            ];
+            let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
+            let d = dae_with("models/farahan2016.toml", &sets, false);
+            let case = format!("{law}/{damping}");
+            let y = contact_state(&d, 2e-6, 0.7, 0.05, 0.3, 0.0);
+            check(
+                &d,
+                &y,
+                &format!("{case}: sliding, no stored impact velocity"),
+            )?;
+            let y = contact_state(&d, 5e-6, 2.5, -0.03, -0.4, 0.2);
+            check(&d, &y, &format!("{case}: receding, stored 0.2 m/s"))?;
+        }
+    }
+    Ok(())
 }
 
 #[test]
