@@ -30,7 +30,6 @@
 
 use super::cholesky;
 use crate::mechanics::constraints::{ConstraintRow, pairs_on_common_bodies};
-use paired::Paired;
 use std::collections::VecDeque;
 
 /// Number of rows up to which [`SchurSolver::Auto`] takes the dense Cholesky. Measured on chains
@@ -72,8 +71,17 @@ struct Coupling {
 enum Storage {
     /// Row-major m × m, lower triangle used.
     Dense { a: Vec<f64> },
-    /// The envelope by 2 × 2 blocks, in reverse Cuthill–McKee order ([`paired`]).
-    Skyline(Paired),
+    /// Envelope storage in the renumbered order: row p holds columns `first[p]..=p` at
+    /// `values[start[p]..start[p + 1]]`.
+    Skyline {
+        /// `perm[p]` = caller's row at position p.
+        perm: Vec<usize>,
+        first: Vec<usize>,
+        start: Vec<usize>,
+        values: Vec<f64>,
+        /// The right-hand side in the renumbered order.
+        x: Vec<f64>,
+    },
 }
 
 /// The Schur complement of a fixed set of constraint rows, ready to be formed and factored at
@@ -157,20 +165,56 @@ impl Schur {
             SchurSolver::Skyline => false,
             SchurSolver::Auto => m <= DENSE_MAX_ROWS,
         };
-        let storage = if dense {
-            Storage::Dense {
-                a: vec![0.0; m * m],
-            }
+        let (storage, position): (Storage, Box<dyn Fn(usize, usize) -> usize>) = if dense {
+            (
+                Storage::Dense {
+                    a: vec![0.0; m * m],
+                },
+                Box::new(move |i, j| i * m + j),
+            )
         } else {
-            let bodies: Vec<_> = active
-                .iter()
-                .map(|&r| (rows[r].body_a, rows[r].body_b))
+            let natural: Vec<usize> = (0..m).collect();
+            let rcm = reverse_cuthill_mckee(&adjacency);
+            // Keep the row order where it is already as tight (a single loop).
+            let perm = if envelope_size(&adjacency, &rcm) < envelope_size(&adjacency, &natural) {
+                rcm
+            } else {
+                natural
+            };
+            let mut inverse = vec![0; m];
+            for (p, &k) in perm.iter().enumerate() {
+                inverse[k] = p;
+            }
+            let first: Vec<usize> = (0..m)
+                .map(|p| {
+                    adjacency[perm[p]]
+                        .iter()
+                        .map(|&k| inverse[k])
+                        .fold(p, usize::min)
+                })
                 .collect();
-            Storage::Skyline(Paired::new(&bodies, &adjacency))
-        };
-        let position = |i: usize, j: usize| match &storage {
-            Storage::Dense { .. } => i * m + j,
-            Storage::Skyline(paired) => paired.index_of_rows(i, j),
+            let mut start = Vec::with_capacity(m + 1);
+            let mut total = 0;
+            for (p, f) in first.iter().enumerate() {
+                start.push(total);
+                total += p - f + 1;
+            }
+            start.push(total);
+            let (first_c, start_c) = (first.clone(), start.clone());
+            (
+                Storage::Skyline {
+                    perm,
+                    first,
+                    start,
+                    values: vec![0.0; total],
+                    x: vec![0.0; m],
+                },
+                Box::new(move |i, j| {
+                    let (a, b) = (inverse[i], inverse[j]);
+                    let (r, c) = (a.max(b), a.min(b));
+                    start_c[r] + c - first_c[r]
+                }),
+            )
         };
         let couplings = pairs
             .iter()
@@ -200,7 +244,7 @@ impl Schur {
 
     /// Whether the skyline storage is in use (else dense).
     pub fn is_skyline(&self) -> bool {
-        matches!(self.storage, Storage::Skyline(_))
+        matches!(self.storage, Storage::Skyline { .. })
     }
 
     /// Number of stored entries of the factor (m(m+1)/2 … m² for dense, the envelope for the
@@ -208,7 +252,7 @@ impl Schur {
     pub fn stored_entries(&self) -> usize {
         match &self.storage {
             Storage::Dense { a } => a.len(),
-            Storage::Skyline(paired) => paired.stored_entries(),
+            Storage::Skyline { values, .. } => values.len(),
         }
     }
 
@@ -235,7 +279,7 @@ impl Schur {
         if shift > 0.0 {
             let values = match &mut self.storage {
                 Storage::Dense { a } => a,
-                Storage::Skyline(paired) => paired.values_mut(),
+                Storage::Skyline { values, .. } => values,
             };
             for &d in &self.diagonal {
                 values[d] += if values[d] == 0.0 {
@@ -271,27 +315,41 @@ impl Schur {
     ) -> Result<(), usize> {
         self.form(rows, active, inv_mass);
         let mut min_ratio = 1.0_f64;
+        // Positions whose `added` holds d + μ (turned into Δ below).
+        let mut seen = 0;
         let added = &mut self.added;
-        // `added` gets d + μ for each row factored (turned into Δ below).
-        let mut pivot = |k: usize, raw: f64, diagonal: f64| {
-            regularised(&mut min_ratio, raw, diagonal, shift[k], &mut added[k])
-        };
         let factored = match &mut self.storage {
-            Storage::Dense { a } => cholesky::factor_with(a, self.m, &mut pivot),
-            Storage::Skyline(paired) => paired.factor_with(&mut pivot),
+            Storage::Dense { a } => cholesky::factor_with(a, self.m, |j, raw, diagonal| {
+                seen = j + 1;
+                regularised(&mut min_ratio, raw, diagonal, shift[j], &mut added[j])
+            }),
+            Storage::Skyline {
+                perm,
+                first,
+                start,
+                values,
+                ..
+            } => skyline_factor_with(first, start, values, |p, raw, diagonal| {
+                seen = p + 1;
+                regularised(
+                    &mut min_ratio,
+                    raw,
+                    diagonal,
+                    shift[perm[p]],
+                    &mut added[perm[p]],
+                )
+            })
+            .map_err(|p| perm[p]),
         };
-        // Δ = μ³/(d + μ)² for the rows factored (up to one that broke down), after the
-        // elimination rather than inside it, where the division held up the next row (the
-        // same expression, so the same value).
-        let in_order: &mut dyn Iterator<Item = usize> = match &self.storage {
-            Storage::Dense { .. } => &mut (0..self.m),
-            Storage::Skyline(paired) => &mut paired.rows_in_order(),
+        // Δ = μ³/(d + μ)² for the rows factored, after the elimination rather than inside it,
+        // where the division held up the next row (the same expression, so the same value).
+        let rows_seen: &mut dyn Iterator<Item = usize> = match &self.storage {
+            Storage::Dense { .. } => &mut (0..seen),
+            Storage::Skyline { perm, .. } => &mut perm[..seen].iter().copied(),
         };
-        for k in in_order {
-            self.added[k] = shift_of(shift[k], self.added[k]);
-            if factored == Err(k) {
-                break;
-            }
+        for k in rows_seen {
+            let (mu, sum) = (shift[k], added[k]);
+            added[k] = shift_of(mu, sum);
         }
         self.min_pivot_ratio = min_ratio;
         factored
@@ -332,15 +390,10 @@ impl Schur {
             }
         }
         let values = match &mut self.storage {
-            Storage::Dense { a } => {
-                a.fill(0.0);
-                a
-            }
-            Storage::Skyline(paired) => {
-                paired.clear();
-                paired.values_mut()
-            }
+            Storage::Dense { a } => a,
+            Storage::Skyline { values, .. } => values,
         };
+        values.fill(0.0);
         let (weighted, plain) = (self.weighted.as_flattened(), self.blocks.as_flattened());
         for c in &self.couplings {
             let w = &weighted[c.block_i as usize];
@@ -353,9 +406,13 @@ impl Schur {
     fn factor_formed(&mut self) -> Result<(), usize> {
         match &mut self.storage {
             Storage::Dense { a } => cholesky::factor(a, self.m),
-            Storage::Skyline(paired) => {
-                paired.factor_with(|_, raw, diagonal| cholesky::checked_pivot(raw, diagonal))
-            }
+            Storage::Skyline {
+                perm,
+                first,
+                start,
+                values,
+                ..
+            } => skyline_factor(first, start, values).map_err(|p| perm[p]),
         }
     }
 
@@ -364,7 +421,21 @@ impl Schur {
     pub fn solve(&mut self, b: &mut [f64]) {
         match &mut self.storage {
             Storage::Dense { a } => cholesky::solve(a, self.m, b),
-            Storage::Skyline(paired) => paired.solve(b),
+            Storage::Skyline {
+                perm,
+                first,
+                start,
+                values,
+                x,
+            } => {
+                for (xp, &k) in x.iter_mut().zip(perm.iter()) {
+                    *xp = b[k];
+                }
+                skyline_solve(first, start, values, x);
+                for (xp, &k) in x.iter().zip(perm.iter()) {
+                    b[k] = *xp;
+                }
+            }
         }
     }
 }
@@ -385,7 +456,7 @@ fn to_u32(k: usize) -> u32 {
 const HEALTHY_PIVOT: f64 = 1e6;
 
 /// The pivot rule of [`Schur::factor_regularised`] for [`cholesky::factor_with`] and
-/// [`Paired::factor_with`]: the raw pivot d of a row (diagonal entry s, shift μ) becomes
+/// [`skyline_factor_with`]: the raw pivot d of a row (diagonal entry s, shift μ) becomes
 /// d + μ³/(d + μ)², `None` where d ≤ −μ or the result is not positive (NaN); `min_ratio` keeps
 /// the smallest d/s ([`Schur::min_pivot_ratio`]), `sum` gets d + μ, from which
 /// [`Schur::factor_regularised`] records the shift [`shift_of`] once the factor is done
@@ -428,6 +499,80 @@ fn regularised(
 /// The shift Δ = μ³/(d + μ)² that [`regularised`] adds to a raw pivot d, from μ and d + μ.
 fn shift_of(mu: f64, sum: f64) -> f64 {
     mu * mu * mu / (sum * sum)
+}
+
+/// Envelope Cholesky in place: row p of `values` (columns `first[p]..=p`) becomes row p of L,
+/// with the reciprocal 1/L_pp on the diagonal as in [`cholesky::factor`]. Row-oriented
+/// (ref. 2): L_pj = (S_pj − Σ_{k ≥ max(f_p, f_j)} L_pk L_jk) / L_jj, every sum a dot product of
+/// two contiguous slices. `Err(p)`: the first pivot that is not positive
+/// ([`cholesky::checked_pivot`]).
+fn skyline_factor(first: &[usize], start: &[usize], values: &mut [f64]) -> Result<(), usize> {
+    skyline_factor_with(first, start, values, |_, raw, diagonal| {
+        cholesky::checked_pivot(raw, diagonal)
+    })
+}
+
+/// [`skyline_factor`] with the pivot rule given, as [`cholesky::factor_with`]:
+/// `pivot(p, d, S_pp)` returns the pivot to use for the raw pivot d at position p of the
+/// renumbered order, or `None` to stop with `Err(p)`.
+fn skyline_factor_with(
+    first: &[usize],
+    start: &[usize],
+    values: &mut [f64],
+    mut pivot: impl FnMut(usize, f64, f64) -> Option<f64>,
+) -> Result<(), usize> {
+    // L_pk is `values[base_p + k]` with base_p = start[p] − f_p (≥ 0: row p starts after p
+    // earlier rows of at least one entry each, and f_p ≤ p). Plain index loops: the envelope
+    // rows of a linkage hold about four entries, and the slices and zipped iterators of a
+    // general dot product cost more than the few products in them. Sums run from −0.0 in
+    // increasing k, as `Iterator::sum` does, so the factor is the same to the bit.
+    for p in 0..first.len() {
+        let fp = first[p];
+        let base_p = start[p] - fp;
+        for j in fp..p {
+            let fj = first[j];
+            let base_j = start[j] - fj;
+            let mut dot = -0.0;
+            for k in fp.max(fj)..j {
+                dot += values[base_p + k] * values[base_j + k];
+            }
+            values[base_p + j] = (values[base_p + j] - dot) * values[base_j + j];
+        }
+        let mut squares = -0.0;
+        for k in fp..p {
+            squares += values[base_p + k] * values[base_p + k];
+        }
+        let s = values[base_p + p];
+        let Some(d) = pivot(p, s - squares, s) else {
+            return Err(p);
+        };
+        values[base_p + p] = 1.0 / d.sqrt();
+    }
+    Ok(())
+}
+
+/// Solves L Lᵀ x = b in place with L from [`skyline_factor`] (indexing as there).
+fn skyline_solve(first: &[usize], start: &[usize], values: &[f64], x: &mut [f64]) {
+    for p in 0..first.len() {
+        let fp = first[p];
+        let base = start[p] - fp;
+        let mut dot = -0.0;
+        for k in fp..p {
+            dot += values[base + k] * x[k];
+        }
+        x[p] = (x[p] - dot) * values[base + p];
+    }
+    // Lᵀ x = y by columns of Lᵀ (rows of L): x_p is final once the rows below have been
+    // subtracted, then scattered into the rows it couples to.
+    for p in (0..first.len()).rev() {
+        let fp = first[p];
+        let base = start[p] - fp;
+        let xp = x[p] * values[base + p];
+        x[p] = xp;
+        for k in fp..p {
+            x[k] -= values[base + k] * xp;
+        }
+    }
 }
 
 /// Entries of the envelope of the lower triangle under the ordering `order` (`order[p]` = the
@@ -515,6 +660,5 @@ fn reverse_cuthill_mckee(adjacency: &[Vec<usize>]) -> Vec<usize> {
     order
 }
 
-mod paired;
 #[cfg(test)]
 mod tests;
