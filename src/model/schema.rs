@@ -57,7 +57,15 @@ const DRIVER_TYPES: &[&str] = &["constant-speed", "speed-ramp", "prescribed-angl
 const FORCE_TYPES: &[&str] = &["spring-damper", "torque", "force"];
 const SHAPE_TYPES: &[&str] = &["bar", "polygon", "disc"];
 const RAMP_SHAPES: &[&str] = &["smooth", "linear"];
-const CONTACT_LAWS: &[&str] = &["lankarani-nikravesh", "hunt-crossley", "flores", "hertz"];
+const CONTACT_LAWS: &[&str] = &[
+    "lankarani-nikravesh",
+    "hunt-crossley",
+    "flores",
+    "hertz",
+    "johnson",
+    "liu",
+];
+const DAMPINGS: &[&str] = &["lankarani-nikravesh", "hunt-crossley", "flores", "none"];
 const FRICTION_LAWS: &[&str] = &["ambrosio", "ambrosio-as-printed", "none"];
 
 /// The root: the whole model file.
@@ -327,6 +335,12 @@ const DEFS: &[Def] = &[
                 "Clearance: journal radius R_J (m).",
             ),
             Field(
+                "length",
+                Num,
+                OPT,
+                "Clearance: axial length L of the bearing (m); needed by the line-contact laws johnson and liu.",
+            ),
+            Field(
                 "youngs_modulus",
                 Num,
                 OPT,
@@ -398,7 +412,13 @@ const DEFS: &[Def] = &[
                 "law",
                 OneOf(CONTACT_LAWS),
                 OPT,
-                "Normal-force law, default lankarani-nikravesh.",
+                "Normal-force law, default lankarani-nikravesh (johnson and liu: line contact, need the joint's length).",
+            ),
+            Field(
+                "damping",
+                OneOf(DAMPINGS),
+                OPT,
+                "Line-contact laws (johnson, liu): the hysteresis damping, default lankarani-nikravesh.",
             ),
             Field(
                 "restitution",
@@ -867,6 +887,7 @@ mod tests {
     fn law_names_are_the_loader_s() {
         use super::super::laws;
         assert_eq!(super::CONTACT_LAWS, laws::names(laws::CONTACT).as_slice());
+        assert_eq!(super::DAMPINGS, laws::DAMPING);
         assert_eq!(super::FRICTION_LAWS, laws::names(laws::FRICTION).as_slice());
     }
 }
