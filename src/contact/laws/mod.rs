@@ -630,6 +630,122 @@ mod tests {
         }
     }
 
+    /// The point laws at hand-computed points, one row per law: the hysteresis factor χ at
+    /// two restitutions, and F_N at δ = 1e-4 m where K δ^1.5 = 1e4 N (K = 1e10), for a
+    /// compressing, resting, restituting and fast-separating δ̇ against the stored δ̇⁽⁻⁾:
+    /// F = 1e4 (1 + χ δ̇/δ̇⁽⁻⁾), clamped at 0. Hertz: the reference joint's K = 6.9494e10 at
+    /// δ = 1e-5 m gives 2197.6 N, and n = 1 gives K δ.
+    #[test]
+    fn point_laws_at_hand_computed_points() {
+        type Force = fn(f64, f64, f64) -> f64;
+        struct Row {
+            law: &'static str,
+            /// (c_r, χ(c_r)) by hand.
+            factors: [(f64, f64); 2],
+            factor: fn(f64) -> f64,
+            /// δ̇⁽⁻⁾ and (δ̇, F) pairs.
+            stored: f64,
+            cases: [(f64, f64); 4],
+            force: Force,
+        }
+        let rows = [
+            Row {
+                law: "lankarani-nikravesh, c_r = 0.9 (χ = 3·0.19/4)",
+                factors: [(0.9, 0.1425), (1.0, 0.0)],
+                factor: lankarani_nikravesh::damping_factor,
+                stored: 1.0,
+                cases: [(0.5, 10712.5), (-0.5, 9287.5), (0.0, 1e4), (-10.0, 0.0)],
+                force: |d, dd, v| {
+                    let law = LankaraniNikravesh {
+                        stiffness: 1e10,
+                        exponent: 1.5,
+                        restitution: 0.9,
+                    };
+                    law.normal_force(d, dd, v)
+                },
+            },
+            Row {
+                law: "hunt-crossley, c_r = 0.9 (χ = 3·0.1/2)",
+                factors: [(0.9, 0.15), (0.5, 0.75)],
+                factor: hunt_crossley::damping_factor,
+                stored: 2.0,
+                cases: [(1.0, 10750.0), (-1.0, 9250.0), (0.0, 1e4), (-20.0, 0.0)],
+                force: |d, dd, v| {
+                    let law = HuntCrossley {
+                        stiffness: 1e10,
+                        exponent: 1.5,
+                        restitution: 0.9,
+                    };
+                    law.normal_force(d, dd, v)
+                },
+            },
+            Row {
+                law: "flores, c_r = 0.8 (χ = 8·0.2/4)",
+                factors: [(0.8, 0.4), (0.5, 1.6)],
+                factor: flores::damping_factor,
+                stored: 1.0,
+                cases: [(0.5, 12000.0), (-0.5, 8000.0), (0.0, 1e4), (-3.0, 0.0)],
+                force: |d, dd, v| {
+                    let law = Flores {
+                        stiffness: 1e10,
+                        exponent: 1.5,
+                        restitution: 0.8,
+                    };
+                    law.normal_force(d, dd, v)
+                },
+            },
+            Row {
+                law: "hertz (no damping)",
+                factors: [(0.3, 0.0), (0.9, 0.0)],
+                factor: hertz::damping_factor,
+                stored: 1.0,
+                cases: [(0.5, 1e4), (-0.5, 1e4), (0.0, 1e4), (-10.0, 1e4)],
+                force: |d, _, _| {
+                    let law = Hertz {
+                        stiffness: 1e10,
+                        exponent: 1.5,
+                    };
+                    law.normal_force(d)
+                },
+            },
+        ];
+        for row in &rows {
+            for (restitution, chi) in row.factors {
+                let got = (row.factor)(restitution);
+                assert!(
+                    (got - chi).abs() < 1e-15,
+                    "{}: χ({restitution}) = {got}, by hand {chi}",
+                    row.law
+                );
+            }
+            for (delta_dot, expected) in row.cases {
+                let f = (row.force)(1e-4, delta_dot, row.stored);
+                assert!(
+                    (f - expected).abs() < 1e-8,
+                    "{}: δ̇ = {delta_dot}: F = {f}, by hand {expected}",
+                    row.law
+                );
+            }
+            // Never pulls, whatever the rate.
+            for k in 0..200 {
+                let delta_dot = -20.0 + 0.2 * f64::from(k);
+                let f = (row.force)(3e-5, delta_dot, 0.7);
+                assert!(f >= 0.0, "{}: δ̇ = {delta_dot}: F = {f}", row.law);
+            }
+        }
+        let reference = Hertz {
+            stiffness: 6.9494e10,
+            exponent: 1.5,
+        };
+        let f = reference.normal_force(1e-5);
+        assert!((f - 2197.6).abs() < 0.05, "F = {f}, hand value 2197.6");
+        let linear = Hertz {
+            stiffness: 6.9494e10,
+            exponent: 1.0,
+        };
+        assert!((linear.normal_force(1e-5) - 6.9494e5).abs() < 1e-6, "n = 1");
+    }
+
     /// The stiffness ordering at the reference joint that docs/contact_laws.md states: at
     /// δ = 1 µm Liu's law (L = 20 mm) is stiffer than the Hertz-type K δ^1.5, and Johnson's
     /// the stiffest (its F grows almost linearly, with a logarithmic correction).
