@@ -140,7 +140,7 @@ pub fn largest_lyapunov<F: Formulation + Clone>(
     {
         let mut stepper = Stepper::new(&mut reference, t0, y0, t_start, opts).map_err(solve)?;
         run_to_end(&mut stepper, t_start, &mut ya).map_err(solve)?;
-        add_stats(&mut stats, stepper.stats());
+        stats.add_run(stepper.stats());
         h0 = positive(stepper.h_next()).or(h0);
     }
 
@@ -170,7 +170,7 @@ pub fn largest_lyapunov<F: Formulation + Clone>(
         };
         let mut stepper = Stepper::new(&mut pair, t_a, &y, t_b, &seg_opts).map_err(solve)?;
         run_to_end(&mut stepper, t_b, &mut y_end).map_err(solve)?;
-        add_stats(&mut stats, stepper.stats());
+        stats.add_run(stepper.stats());
         h0 = positive(stepper.h_next()).or(h0);
         drop(stepper);
 
@@ -224,24 +224,6 @@ fn run_to_end<F: Formulation>(
 ) -> Result<(), SolveError> {
     while stepper.step()? != crate::solve::Stop::EndReached {}
     stepper.interpolate(t_end, out)
-}
-
-fn add_stats(total: &mut SolverStats, s: &SolverStats) {
-    if s.steps > 0 {
-        if total.steps == 0 {
-            total.h_min_used = s.h_min_used;
-            total.h_max_used = s.h_max_used;
-        } else {
-            total.h_min_used = total.h_min_used.min(s.h_min_used);
-            total.h_max_used = total.h_max_used.max(s.h_max_used);
-        }
-    }
-    total.steps += s.steps;
-    total.rejected += s.rejected;
-    total.rhs_evals += s.rhs_evals;
-    total.dense_evals += s.dense_evals;
-    total.events += s.events;
-    total.restarts += s.restarts;
 }
 
 /// Standard deviation of the means of `n_blocks` consecutive equal blocks of `x`, over

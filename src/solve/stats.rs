@@ -80,6 +80,27 @@ impl SolverStats {
         }
         self.steps += 1;
     }
+
+    /// Adds the steps, rejections, RHS and dense-output evaluations, events and restarts of a
+    /// later integration of the same study (the Lyapunov pair's segments, a shooting's periods)
+    /// and widens the step-size range to cover both.
+    pub(crate) fn add_run(&mut self, s: &SolverStats) {
+        if s.steps > 0 {
+            if self.steps == 0 {
+                self.h_min_used = s.h_min_used;
+                self.h_max_used = s.h_max_used;
+            } else {
+                self.h_min_used = self.h_min_used.min(s.h_min_used);
+                self.h_max_used = self.h_max_used.max(s.h_max_used);
+            }
+        }
+        self.steps += s.steps;
+        self.rejected += s.rejected;
+        self.rhs_evals += s.rhs_evals;
+        self.dense_evals += s.dense_evals;
+        self.events += s.events;
+        self.restarts += s.restarts;
+    }
 }
 
 #[cfg(test)]

@@ -203,7 +203,7 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
     }
     let mut total = guess_stats;
     for s in [&found.stats, &stats] {
-        add_stats(&mut total, s);
+        total.add_run(s);
     }
     let stable = found.stable();
     let spectral_radius = found
@@ -323,22 +323,4 @@ impl<F: Formulation + Outputs> Sink<F> for Record {
         self.end = end;
         Ok(())
     }
-}
-
-fn add_stats(total: &mut SolverStats, s: &SolverStats) {
-    if s.steps > 0 {
-        if total.steps == 0 {
-            total.h_min_used = s.h_min_used;
-            total.h_max_used = s.h_max_used;
-        } else {
-            total.h_min_used = total.h_min_used.min(s.h_min_used);
-            total.h_max_used = total.h_max_used.max(s.h_max_used);
-        }
-    }
-    total.steps += s.steps;
-    total.rejected += s.rejected;
-    total.rhs_evals += s.rhs_evals;
-    total.dense_evals += s.dense_evals;
-    total.events += s.events;
-    total.restarts += s.restarts;
 }

@@ -110,7 +110,7 @@ pub fn periodic_orbit<F: Formulation + Clone>(
     let mut stats = SolverStats::default();
     let run = |y: &[f64], stats: &mut SolverStats| -> Result<Shot, AnalysisError> {
         let shot = shoot(f, t0, y, t1, options.time_scale, solver, WHAT)?;
-        add_stats(stats, &shot.stats);
+        stats.add_run(&shot.stats);
         Ok(shot)
     };
     // max_i |r_i|/ε_i over `active`.
@@ -285,22 +285,4 @@ fn validate<F: Formulation>(
         }
     }
     Ok(())
-}
-
-fn add_stats(total: &mut SolverStats, s: &SolverStats) {
-    if s.steps > 0 {
-        if total.steps == 0 {
-            total.h_min_used = s.h_min_used;
-            total.h_max_used = s.h_max_used;
-        } else {
-            total.h_min_used = total.h_min_used.min(s.h_min_used);
-            total.h_max_used = total.h_max_used.max(s.h_max_used);
-        }
-    }
-    total.steps += s.steps;
-    total.rejected += s.rejected;
-    total.rhs_evals += s.rhs_evals;
-    total.dense_evals += s.dense_evals;
-    total.events += s.events;
-    total.restarts += s.restarts;
 }
