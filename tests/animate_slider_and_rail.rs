@@ -7,13 +7,13 @@
 
 mod animate_common;
 
-use animate_common::{near, pixel_of, point_at, rgb_at};
+use animate_common::{near, pixel_of, point_at, rgb_at, run_table};
 use linkdyn::animate::{
     Animation, AnimationOptions, BACKGROUND, GROUND, SLIDER_BLOCK_FRACTION, body_colour,
     raster::rgb_pixels,
 };
 use linkdyn::plot::Table;
-use linkdyn::simulation::{Simulation, SimulationOptions};
+use linkdyn::simulation::SimulationOptions;
 
 /// The pixels tested lie a third of a block (about 20 px) inside the block's edges or on the
 /// 3 px rail's centre line, away from anti-aliased edges: a unit of rounding is the tolerance.
@@ -25,24 +25,11 @@ fn slider_crank() -> (linkdyn::model::Model, Table) {
         Ok(m) => m,
         Err(e) => panic!("{e}"),
     };
-    let sim = match Simulation::new(&model, SimulationOptions::default().revs(1.0).dt(1e-4)) {
-        Ok(s) => s,
-        Err(e) => panic!("{e}"),
-    };
-    let run = match sim.run_to_memory() {
-        Ok(r) => r,
-        Err(e) => panic!("{e}"),
-    };
-    let mut names = vec!["t".to_string()];
-    names.extend(run.names.iter().cloned());
-    let mut columns = vec![run.t];
-    columns.extend(run.columns);
-    let table = Table {
-        path: "models/slider_crank.toml".into(),
-        comments: Vec::new(),
-        names,
-        columns,
-    };
+    let table = run_table(
+        &model,
+        "models/slider_crank.toml",
+        SimulationOptions::default().revs(1.0).dt(1e-4),
+    );
     (model, table)
 }
 

@@ -60,7 +60,18 @@ pub fn farahan(revs: f64) -> (Model, Table) {
         Ok(m) => m,
         Err(e) => panic!("{e}"),
     };
-    let sim = match Simulation::new(&model, SimulationOptions::default().revs(revs).dt(1e-3)) {
+    let table = run_table(
+        &model,
+        "models/farahan2016.toml",
+        SimulationOptions::default().revs(revs).dt(1e-3),
+    );
+    (model, table)
+}
+
+/// `model` run with `options`, as the table `linkdyn run` would write for the file `path`
+/// (with `t` first).
+pub fn run_table(model: &Model, path: &str, options: SimulationOptions) -> Table {
+    let sim = match Simulation::new(model, options) {
         Ok(s) => s,
         Err(e) => panic!("{e}"),
     };
@@ -72,13 +83,12 @@ pub fn farahan(revs: f64) -> (Model, Table) {
     names.extend(run.names.iter().cloned());
     let mut columns = vec![run.t];
     columns.extend(run.columns);
-    let table = Table {
-        path: "models/farahan2016.toml".into(),
+    Table {
+        path: path.into(),
         comments: Vec::new(),
         names,
         columns,
-    };
-    (model, table)
+    }
 }
 
 /// Column `name` of `run` at time `t` (s), linear between the samples around it.
