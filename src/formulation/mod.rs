@@ -16,7 +16,7 @@ pub mod residual;
 pub mod schur;
 pub mod sparse_jacobian;
 #[cfg(test)]
-mod test_rng;
+pub(crate) mod test_rng;
 
 pub use dae::{Dae, DaeOptions};
 pub use generalized::Generalized;

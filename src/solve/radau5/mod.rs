@@ -98,6 +98,7 @@
 
 mod adapter;
 mod core;
+mod fixed_pivots;
 mod linalg;
 mod newton;
 mod settings;
