@@ -98,8 +98,6 @@ enum Factors {
 pub struct DependentBlock {
     m: usize,
     solver: BlockSolver,
-    /// Largest number of right-hand sides solved at once (f + 1: B's columns and c).
-    max_rhs: usize,
     /// Dependent coordinate of each column, for the partition the entries were built for;
     /// `None` before the first partition.
     partition: Option<Vec<usize>>,
@@ -108,13 +106,11 @@ pub struct DependentBlock {
 }
 
 impl DependentBlock {
-    /// A block of m rows and columns, factored as `solver` says, for solves of up to
-    /// `max_rhs` right-hand sides at once.
-    pub fn new(m: usize, solver: BlockSolver, max_rhs: usize) -> Self {
+    /// A block of m rows and columns, factored as `solver` says.
+    pub fn new(m: usize, solver: BlockSolver) -> Self {
         DependentBlock {
             m,
             solver,
-            max_rhs,
             partition: None,
             entries: Vec::new(),
             factors: Factors::Dense {
@@ -206,7 +202,7 @@ impl DependentBlock {
             col_ptr[j + 1] += col_ptr[j];
         }
         let row_idx = self.entries.iter().map(|e| e.row).collect();
-        SparseLu::analyse(m, col_ptr, row_idx, self.max_rhs).ok()
+        SparseLu::analyse(m, col_ptr, row_idx).ok()
     }
 
     /// Fills Φ_qD from the evaluation `rows` and factors it. Fails with the position (among the
@@ -331,7 +327,7 @@ point_b = "O4"
         }
         let mut x = Vec::new();
         for solver in [BlockSolver::Dense, BlockSolver::Sparse] {
-            let mut block = DependentBlock::new(8, solver, 2);
+            let mut block = DependentBlock::new(8, solver);
             block.set_partition(&dep, &col_of, &eval.rows, &active, &set);
             assert_eq!(block.is_sparse(), solver == BlockSolver::Sparse);
             assert_eq!(block.factor(&eval.rows), Ok(()), "{solver:?}");

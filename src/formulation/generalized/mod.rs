@@ -218,7 +218,7 @@ impl Generalized {
             work: RefCell::new(Work {
                 sin_cos: vec![(0.0, 1.0); nb],
                 eval: ConstraintEval::with_rows(constraints.n_rows()),
-                block: DependentBlock::new(m, BlockSolver::default(), n - m + 1),
+                block: DependentBlock::new(m, BlockSolver::default()),
                 rhs: vec![0.0; m],
                 dep: vec![0; m],
                 col_of: vec![usize::MAX; n],
@@ -263,8 +263,8 @@ impl Generalized {
     /// the cost differs.
     #[must_use]
     pub fn with_block_solver(self, solver: BlockSolver) -> Self {
-        let (m, f) = (self.active.len(), self.n_indep);
-        self.work.borrow_mut().block = DependentBlock::new(m, solver, f + 1);
+        let m = self.active.len();
+        self.work.borrow_mut().block = DependentBlock::new(m, solver);
         self
     }
 

@@ -98,7 +98,6 @@
 
 mod adapter;
 mod core;
-mod fixed_pivots;
 mod linalg;
 mod newton;
 mod settings;

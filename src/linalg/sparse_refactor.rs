@@ -4,18 +4,19 @@
 //!
 //! Why: faer's left-looking LU with partial pivoting (Gilbert–Peierls) finds each column's
 //! pattern by a depth-first search through L before it computes a single value, and Radau5
-//! factorises Newton matrices of one pattern thousands of times a run, with values that change
-//! little from one factorisation to the next. Measured on the 40-loop N-four-bar chain (DAE,
+//! factorises Newton matrices of one pattern thousands of times a run (the generalised
+//! formulation its dependent block at every right-hand side), with values that change little
+//! from one factorisation to the next. Measured on the 40-loop N-four-bar chain (DAE,
 //! Radau5, `perf record`): the search alone was 27 % of the run, faer's numeric work 29 %.
 //! Here the patterns of L and U, the row pivots and each column's elimination order are kept
 //! from the last pivoting factorisation, and a refactorisation is the numeric work alone.
 //!
-//! **Pivot check.** The kept pivot of a column is accepted if it is finite, non-zero and at
-//! least [`PIVOT_THRESHOLD`] times the largest entry below it (threshold partial pivoting);
-//! otherwise [`FixedPivotLu::refactor`] gives up and the caller factorises with pivoting again.
-//! When the kept pivot is the column's largest (the usual case), the factors are those faer's
+//! **Pivot check** ([`PivotCheck`]). The kept pivot of a column is accepted if it is finite,
+//! non-zero and at least a fraction of the largest entry below it (threshold partial
+//! pivoting); otherwise [`FixedPivotLu::refactor`] gives up and the caller factorises with
+//! pivoting again. When the kept pivot is the column's largest, the factors are those faer's
 //! pivoting factorisation would compute, bit for bit: the same operations in the same order
-//! (tested below).
+//! (tested in `solve/radau5/sparse.rs`).
 
 use faer::c64;
 use faer::sparse::SparseColMatRef;
@@ -25,7 +26,7 @@ use std::ops::{AddAssign, Mul, SubAssign};
 
 /// The entries the factors hold: real (the real Newton matrix) or complex (the complex one),
 /// with faer's own reciprocal and modulus so that the factors match faer's bit for bit.
-pub(super) trait Entry:
+pub(crate) trait Entry:
     ComplexField + Copy + AddAssign + SubAssign + Mul<Output = Self>
 {
     fn zero() -> Self;
@@ -57,22 +58,31 @@ impl Entry for c64 {
     }
 }
 
-/// A kept pivot must be at least this fraction of the largest entry below it in its column:
-/// UMFPACK's default for unsymmetric matrices (Davis, ACM TOMS 30, 2004, §2). Each accepted
-/// pivot can grow the entries of the factors by at most 1/0.1 = 10 per elimination step
-/// against partial pivoting's 1.
-pub(super) const PIVOT_THRESHOLD: f64 = 0.1;
+/// When a kept pivot is good enough: at least this fraction of the largest entry below it.
+/// 0.1 is UMFPACK's default for unsymmetric matrices (Davis, ACM TOMS 30, 2004, §2): each
+/// accepted pivot can grow the entries of the factors by at most 10 per elimination step,
+/// against partial pivoting's 1. 1.0 accepts only a pivot partial pivoting could have chosen
+/// (the largest, or one of equal size).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct PivotCheck(pub f64);
+
+impl PivotCheck {
+    fn accepts(self, size: f64, below: f64) -> bool {
+        size.is_finite() && size > 0.0 && size >= self.0 * below
+    }
+}
 
 /// Why a refactorisation stopped: the kept pivot of column `column` failed the check.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct PivotRejected {
+pub(crate) struct PivotRejected {
     pub column: usize,
 }
 
 /// L (unit lower, its diagonal stored first in each column) and U (upper, its diagonal stored
 /// last, the other rows in elimination order) of P·A·Q, with the row pivots P, in compressed
 /// columns over the pivot numbering of the rows.
-pub(super) struct FixedPivotLu<T> {
+#[derive(Debug, Clone)]
+pub(crate) struct FixedPivotLu<T> {
     /// `row_fwd[k]`: the row of A that is pivot row k; `row_inv` its inverse.
     row_fwd: Vec<usize>,
     row_inv: Vec<usize>,
@@ -89,7 +99,7 @@ pub(super) struct FixedPivotLu<T> {
 impl<T: Entry> FixedPivotLu<T> {
     /// Copies the factors and row pivots of faer's simplicial LU (`row_fwd`, `row_inv` as faer
     /// returned them).
-    pub(super) fn from_faer(
+    pub(crate) fn from_faer(
         lu: &SimplicialLu<usize, T>,
         row_fwd: &[usize],
         row_inv: &[usize],
@@ -110,7 +120,7 @@ impl<T: Entry> FixedPivotLu<T> {
     }
 
     /// Replaces the factors by faer's (the buffers keep their capacity).
-    pub(super) fn copy_from_faer(
+    pub(crate) fn copy_from_faer(
         &mut self,
         lu: &SimplicialLu<usize, T>,
         row_fwd: &[usize],
@@ -137,18 +147,19 @@ impl<T: Entry> FixedPivotLu<T> {
     }
 
     /// The pivots, U's diagonal, in column order.
-    pub(super) fn pivots(&self) -> impl Iterator<Item = &T> + '_ {
+    pub(crate) fn pivots(&self) -> impl Iterator<Item = &T> + '_ {
         self.u_ptr[1..].iter().map(|&end| &self.u_val[end - 1])
     }
 
     /// Factorises `a` (the pattern the kept factors came from, new values) with the kept row
     /// pivots, column order `col_perm` (column j of P·A·Q is column `col_perm[j]` of A) and
-    /// fill pattern. On a rejected pivot the factors are left unusable: factorise with
-    /// pivoting next.
-    pub(super) fn refactor(
+    /// fill pattern, each pivot accepted by `check`. On a rejected pivot the factors are left
+    /// unusable: factorise with pivoting next.
+    pub(crate) fn refactor(
         &mut self,
         a: SparseColMatRef<'_, usize, T>,
         col_perm: &[usize],
+        check: PivotCheck,
     ) -> Result<(), PivotRejected> {
         let work = &mut self.work;
         for (j, &pj) in col_perm.iter().enumerate() {
@@ -171,8 +182,7 @@ impl<T: Entry> FixedPivotLu<T> {
                 .map(|&r| work[r].modulus())
                 .fold(0.0, f64::max);
             let size = pivot.modulus();
-            let accepted = size.is_finite() && size > 0.0 && size >= PIVOT_THRESHOLD * below;
-            if accepted {
+            if check.accepts(size, below) {
                 for (p, &k) in (u0..u1).zip(&self.u_idx[u0..u1]) {
                     self.u_val[p] = work[k];
                     work[k] = T::zero();
@@ -196,7 +206,7 @@ impl<T: Entry> FixedPivotLu<T> {
 
     /// Solves A x = b in place (`b` of the factors' dimension), with `col_perm` as in
     /// [`FixedPivotLu::refactor`].
-    pub(super) fn solve(&mut self, b: &mut [T], col_perm: &[usize]) {
+    pub(crate) fn solve(&mut self, b: &mut [T], col_perm: &[usize]) {
         let y = &mut self.work;
         for (yk, &i) in y.iter_mut().zip(&self.row_fwd) {
             *yk = b[i];
