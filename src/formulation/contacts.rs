@@ -255,6 +255,19 @@ impl ContactSites {
         if self.corner(k).is_some() {
             return self.corner_state(k, q, v, sin_cos, stored);
         }
+        self.joint_state(k, q, v, sin_cos, stored)
+    }
+
+    /// [`ContactSites::site_state`] of a revolute joint `k` (< `sites().len()`): what the
+    /// right-hand side's loop over the joints calls, without the corner dispatch.
+    fn joint_state(
+        &self,
+        k: usize,
+        q: &[f64],
+        v: &[f64],
+        sin_cos: &[(f64, f64)],
+        stored: f64,
+    ) -> SiteState {
         let (bearing, journal, kinematics) = self.site_kinematics(k, q, v, sin_cos);
         SiteState {
             bearing,
@@ -311,7 +324,7 @@ impl ContactSites {
     ) -> Result<f64, FormulationError> {
         let mut dissipated = 0.0;
         for k in 0..self.sites.len() {
-            let s = self.site_state(k, q, v, sin_cos, stored[k]);
+            let s = self.joint_state(k, q, v, sin_cos, stored[k]);
             if s.kinematics.delta <= 0.0 {
                 continue;
             }

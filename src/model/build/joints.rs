@@ -448,7 +448,7 @@ impl Builder<'_, '_> {
             return Err(self.err(
                 span,
                 format!(
-                    "the initial offset {initial_offset:e} m and tilt {initial_tilt:e} rad put a slider corner {reach:e} m from its centred position towards a guide surface, not less than the clearance {clearance:e} m; expected every corner strictly inside the guide, since a contact that is under way at t = 0 has no impact velocity to scale its damping"
+                    "the initial offset {initial_offset:e} m and tilt {initial_tilt:e} rad put a slider corner {reach:.6e} m from its centred position towards a guide surface, not less than the clearance {clearance:.6e} m; expected every corner strictly inside the guide, since a contact that is under way at t = 0 has no impact velocity to scale its damping"
                 ),
             ));
         }
