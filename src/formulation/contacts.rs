@@ -163,10 +163,7 @@ impl ContactSites {
         v: &[f64],
         sin_cos: &[(f64, f64)],
     ) -> (PointState, PointState, ContactKinematics) {
-        let Some(site) = self.sites.get(k) else {
-            let s = self.corner_state(k, q, v, sin_cos, 0.0);
-            return (s.bearing, s.journal, s.kinematics);
-        };
+        let site = &self.sites[k];
         let bearing = point_state(site.bearing.frame, site.bearing.local, q, v, sin_cos);
         let journal = point_state(site.journal.frame, site.journal.local, q, v, sin_cos);
         let kinematics = site
@@ -381,6 +378,7 @@ impl ContactSites {
     /// corner on the slider and at the guide's material point under it (no moments about
     /// them). The power of the pair is −F_N δ̇ + F_T v_t, its elastic part −F_e δ̇.
     #[allow(clippy::too_many_arguments)] // as add_forces_into
+    #[inline(never)] // out of the revolute joints' loop: a model without corners never calls it
     fn add_corner_forces_into(
         &self,
         t: f64,
@@ -467,7 +465,10 @@ impl ContactSites {
             .iter()
             .zip(rest.chunks_exact_mut(kinks::N_KINK_EVENTS))
         {
-            let slip = self.site_kinematics(k, q, v, sin_cos).2.tangential_velocity;
+            let slip = match self.corner(k) {
+                Some(c) => c.state(q, v, sin_cos, 0.0).kinematics.tangential_velocity,
+                None => self.site_kinematics(k, q, v, sin_cos).2.tangential_velocity,
+            };
             kinks::kink_events(speeds, stored[k], slip, gk);
         }
     }
