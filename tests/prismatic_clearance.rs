@@ -393,3 +393,25 @@ fn slider_crank_tends_to_the_ideal_one_as_the_clearance_vanishes() {
         );
     }
 }
+
+/// The reduced formulation is the paper's four-bar with one revolute clearance joint: it
+/// refuses a prismatic-clearance joint, naming it and saying which formulations take it.
+#[test]
+fn the_reduced_formulation_refuses_with_the_reason() {
+    let model = common::load("models/slider_crank_prismatic_clearance.toml", &[]);
+    let refused = Simulation::new(
+        &model,
+        SimulationOptions::default().formulation(FormulationKind::Reduced),
+    )
+    .and_then(|s| s.run_to_memory());
+    let Err(e) = refused else {
+        panic!("the reduced formulation ran a prismatic-clearance joint");
+    };
+    let message = e.to_string();
+    assert!(
+        message.contains(
+            "joint \"rail\" is a prismatic-clearance joint; the reduced formulation is the four-bar model of Farahan et al. (2016)"
+        ) && message.contains("use the DAE or generalized formulation"),
+        "message: {message}"
+    );
+}

@@ -147,14 +147,6 @@ impl ContactSites {
         }
     }
 
-    /// Name of site `k`: the joint's for a revolute joint, `J.c1` … for a corner.
-    pub fn site_name(&self, k: usize, model: &Model) -> String {
-        match self.sites.get(k) {
-            Some(site) => model.joint(site.joint).name.clone(),
-            None => self.corner(k).map(|c| c.name(model)).unwrap_or_default(),
-        }
-    }
-
     /// Centres and relative kinematics of joint `k` at (q, q̇), without forces.
     fn site_kinematics(
         &self,
@@ -249,8 +241,8 @@ impl ContactSites {
         sin_cos: &[(f64, f64)],
         stored: f64,
     ) -> SiteState {
-        if self.corner(k).is_some() {
-            return self.corner_state(k, q, v, sin_cos, stored);
+        if let Some(c) = self.corner(k) {
+            return c.state(q, v, sin_cos, stored);
         }
         self.joint_state(k, q, v, sin_cos, stored)
     }
@@ -271,35 +263,6 @@ impl ContactSites {
             journal,
             kinematics,
             forces: self.site_forces(k, &kinematics, stored),
-        }
-    }
-
-    /// State of corner site `k` (a default state if `k` is no corner).
-    fn corner_state(
-        &self,
-        k: usize,
-        q: &[f64],
-        v: &[f64],
-        sin_cos: &[(f64, f64)],
-        stored: f64,
-    ) -> SiteState {
-        match self.corner(k) {
-            Some(c) => c.state(q, v, sin_cos, stored),
-            None => SiteState {
-                bearing: PointState::default(),
-                journal: PointState::default(),
-                kinematics: crate::contact::corner::corner_kinematics(
-                    &crate::contact::corner::CornerMotion {
-                        corner: [0.0; 2],
-                        corner_velocity: [0.0; 2],
-                        guide_velocity: [0.0; 2],
-                        centreline: [0.0; 2],
-                        normal: [1.0, 0.0],
-                        half_width: 1.0,
-                    },
-                ),
-                forces: ContactForces::default(),
-            },
         }
     }
 

@@ -596,13 +596,11 @@ impl Model {
         }
     }
 
-    /// True if any joint is a clearance joint (revolute or prismatic).
+    /// True if any joint is a revolute clearance joint (prismatic-clearance joints not counted:
+    /// the animation's clearance circles and journal arrows are theirs).
     pub fn has_clearance_joints(&self) -> bool {
-        self.joints.iter().any(|j| {
-            matches!(
-                j.kind,
-                JointKind::Clearance(_) | JointKind::PrismaticClearance(_)
-            )
-        })
+        self.joints
+            .iter()
+            .any(|j| matches!(j.kind, JointKind::Clearance(_)))
     }
 }
