@@ -99,3 +99,73 @@ fn slider_block_and_rail_are_drawn_where_the_run_puts_them() {
         );
     }
 }
+
+/// A slider in a guide with clearance (models/slider_crank_prismatic_clearance.toml: an
+/// 80 × 50 mm slider, c = 0.5 mm) is drawn between the guide's two surfaces: two grey lines at
+/// y = ±(w/2 + c) = ±25.5 mm that reach half a slider and a block beyond its farthest place,
+/// background between them there, and the slider's own polygon where the run puts it.
+#[test]
+fn slider_is_drawn_between_the_two_surfaces_of_its_guide() {
+    const MODEL: &str = "models/slider_crank_prismatic_clearance.toml";
+    let model = match linkdyn::model::load(MODEL.as_ref(), &[]) {
+        Ok(m) => m,
+        Err(e) => panic!("{e}"),
+    };
+    let run = run_table(
+        &model,
+        MODEL,
+        SimulationOptions::default().revs(1.0).dt(1e-4),
+    );
+    let options = AnimationOptions {
+        duration: Some(1.0),
+        fps: 4.0,
+        ..AnimationOptions::default()
+    };
+    let movie = match Animation::build(&model, &run, &options) {
+        Ok(m) => m,
+        Err(e) => panic!("{e}"),
+    };
+    let width = movie.view.size.0 as usize;
+    let block = SLIDER_BLOCK_FRACTION * 0.3;
+    let slider = model
+        .bodies
+        .iter()
+        .position(|b| b.name == "slider")
+        .unwrap_or_else(|| panic!("no body named slider"));
+    let Ok(xs) = run.column("slider.x") else {
+        panic!("no column slider.x")
+    };
+    let farthest = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let beyond = farthest + 0.04 + 0.5 * block;
+    for frame in &movie.frames {
+        let rgb = match rgb_pixels(&frame.picture) {
+            Ok(p) => p,
+            Err(e) => panic!("{e}"),
+        };
+        for y in [-0.0255, 0.0255] {
+            let at = pixel_of(&movie.view, [beyond, y]);
+            let c = rgb_at(&rgb, width, at);
+            assert!(
+                near(c, GROUND, COLOUR_TOL),
+                "t = {} s: guide surface pixel {at:?} (y = {y} m) is {c:?}, expected {GROUND:?}",
+                frame.t
+            );
+        }
+        let between = pixel_of(&movie.view, [beyond, 0.0]);
+        let c = rgb_at(&rgb, width, between);
+        assert!(
+            near(c, BACKGROUND, COLOUR_TOL),
+            "t = {} s: pixel {between:?} between the surfaces is {c:?}, expected background",
+            frame.t
+        );
+        // Inside the slider's polygon, ahead of its pin (the rod comes from behind).
+        let inside = pixel_of(&movie.view, point_at(&run, "slider", [0.025, 0.0], frame.t));
+        let c = rgb_at(&rgb, width, inside);
+        assert!(
+            near(c, body_colour(slider), COLOUR_TOL),
+            "t = {} s: pixel {inside:?} in the slider is {c:?}, expected {:?}",
+            frame.t,
+            body_colour(slider)
+        );
+    }
+}

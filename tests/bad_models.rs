@@ -210,6 +210,22 @@ const CASES: &[(&str, &str)] = &[
         "tests/bad_models/poisson_ratio_minus_one.toml:24:17: joints.C.poisson_ratio: expected a Poisson ratio in (-1, 0.5), found -1",
     ),
     (
+        "prismatic_clearance_corner_on_the_wall",
+        "tests/bad_models/prismatic_clearance_corner_on_the_wall.toml:67:16: joints.rail.initial_tilt: the initial offset 0e0 m and tilt 1.3e-2 rad put a slider corner 5.178729e-4 m from its centred position towards a guide surface, not less than the clearance 5.000000e-4 m; expected every corner strictly inside the guide, since a contact that is under way at t = 0 has no impact velocity to scale its damping",
+    ),
+    (
+        "prismatic_clearance_line_law",
+        "tests/bad_models/prismatic_clearance_line_law.toml:72:7: joints.rail.contact.law: contact law \"liu\" is a line contact of a cylinder in a cylindrical hole and has no meaning for a slider's corner on a flat guide surface; expected a point-contact law (lankarani-nikravesh, hunt-crossley, flores or hertz) on prismatic-clearance joint \"rail\"",
+    ),
+    (
+        "prismatic_clearance_without_slider_length",
+        "tests/bad_models/prismatic_clearance_without_slider_length.toml:59:8: joints.rail.name: missing field `slider_length` of prismatic-clearance joint \"rail\"",
+    ),
+    (
+        "prismatic_clearance_without_stiffness",
+        "tests/bad_models/prismatic_clearance_without_stiffness.toml:59:8: joints.rail.name: missing field `stiffness` of prismatic-clearance joint \"rail\"",
+    ),
+    (
         "repeat_name_not_integer",
         "tests/bad_models/repeat_name_not_integer.toml:33:8: repeat[0].bodies[0].name: {i/2} in name template \"b{i/2}\" is 0.5; expected an integer (in [[repeat]] with i = 1)",
     ),
@@ -255,7 +271,7 @@ const CASES: &[(&str, &str)] = &[
     ),
     (
         "unknown_joint_type",
-        "tests/bad_models/unknown_joint_type.toml:32:8: joints.A.type: unknown joint type \"revolut\"; expected \"revolute\", \"prismatic\" or \"clearance\": did you mean \"revolute\"?",
+        "tests/bad_models/unknown_joint_type.toml:32:8: joints.A.type: unknown joint type \"revolut\"; expected \"revolute\", \"prismatic\", \"clearance\" or \"prismatic-clearance\": did you mean \"revolute\"?",
     ),
     (
         "unknown_point",

@@ -84,9 +84,10 @@ class ModelBuilder:
         return self._append("bodies", entry)
 
     def joint(self, name: str, type: str, **fields: Any) -> "ModelBuilder":
-        """``[[joints]]`` of ``type`` "revolute", "prismatic" or "clearance", with the fields of
-        that type (``body_a``, ``point_a``, … or ``bearing``, ``journal``, ``clearance``,
-        ``contact={"law": …}``, ``friction={…}``, …)."""
+        """``[[joints]]`` of ``type`` "revolute", "prismatic", "clearance" or
+        "prismatic-clearance", with the fields of that type (``body_a``, ``point_a``, … or
+        ``bearing``, ``journal``, ``clearance``, ``contact={"law": …}``, ``friction={…}``, … or
+        ``slider_length``, ``slider_width``, ``stiffness``; docs/model_format.md)."""
         return self._append("joints", {"name": name, "type": type, **fields})
 
     def driver(self, name: str, type: str, *, joint: str, **fields: Any) -> "ModelBuilder":

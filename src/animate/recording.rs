@@ -93,7 +93,10 @@ impl<'a> Recording<'a> {
             .joints
             .iter()
             .map(|j| {
-                if !matches!(j.kind, JointKind::Prismatic { .. }) {
+                if !matches!(
+                    j.kind,
+                    JointKind::Prismatic { .. } | JointKind::PrismaticClearance(_)
+                ) {
                     return None;
                 }
                 (0..t.len())

@@ -206,12 +206,31 @@ fn rail_direction(joint: &Joint, axis: [f64; 2], poses: &[[f64; 3]]) -> Option<[
 /// How far point b of a prismatic joint is from point a along the joint's axis (m): the
 /// slider's place on its rail. `None` for other joints.
 pub fn slide(joint: &Joint, poses: &[[f64; 3]]) -> Option<f64> {
-    let JointKind::Prismatic { axis, .. } = joint.kind else {
-        return None;
-    };
+    let axis = rail_axis(joint)?;
     let (a, b) = (global(&joint.a, poses)?, global(&joint.b, poses)?);
     let u = rail_direction(joint, axis, poses)?;
     Some((b[0] - a[0]) * u[0] + (b[1] - a[1]) * u[1])
+}
+
+/// The sliding axis of a prismatic or prismatic-clearance joint (frame of its body a).
+pub fn rail_axis(joint: &Joint) -> Option<[f64; 2]> {
+    match &joint.kind {
+        JointKind::Prismatic { axis, .. } => Some(*axis),
+        JointKind::PrismaticClearance(p) => Some(p.axis),
+        _ => None,
+    }
+}
+
+/// Offsets of a joint's rail lines from its centreline (m): one line (0) for a prismatic
+/// joint, the guide's two surfaces ±(w/2 + c) for a prismatic-clearance joint.
+fn rail_offsets(joint: &Joint) -> Vec<f64> {
+    match &joint.kind {
+        JointKind::PrismaticClearance(p) => {
+            let h = 0.5 * p.slider_width + p.clearance;
+            vec![-h, h]
+        }
+        _ => vec![0.0],
+    }
 }
 
 /// The side of a slider block (m): [`SLIDER_BLOCK_FRACTION`] of the model's longest body.
@@ -291,7 +310,7 @@ pub fn draw(model: &Model, now: &Instant, options: &DrawOptions) -> Scene {
     let block = slider_block_side(model);
     // Rails first, under the bodies that slide on them.
     for (k, j) in model.joints.iter().enumerate() {
-        let JointKind::Prismatic { axis, .. } = j.kind else {
+        let Some(axis) = rail_axis(j) else {
             continue;
         };
         let (Some(a), Some(u), Some(here)) = (
@@ -302,13 +321,21 @@ pub fn draw(model: &Model, now: &Instant, options: &DrawOptions) -> Scene {
             continue;
         };
         let [lo, hi] = now.travel.get(k).copied().flatten().unwrap_or([here, here]);
-        let at = |s: f64| [a[0] + s * u[0], a[1] + s * u[1]];
-        items.push(Item::Line {
-            points: vec![at(lo.min(here) - block), at(hi.max(here) + block)],
-            closed: false,
-            colour: GROUND,
-            width_px: RAIL_PX,
-        });
+        let n = [-u[1], u[0]];
+        // A guide with clearance: its two surfaces, the slider drawn between them.
+        let reach = match &j.kind {
+            JointKind::PrismaticClearance(p) => 0.5 * p.slider_length + block,
+            _ => block,
+        };
+        for off in rail_offsets(j) {
+            let at = |s: f64| [a[0] + s * u[0] + off * n[0], a[1] + s * u[1] + off * n[1]];
+            items.push(Item::Line {
+                points: vec![at(lo.min(here) - reach), at(hi.max(here) + reach)],
+                closed: false,
+                colour: GROUND,
+                width_px: RAIL_PX,
+            });
+        }
     }
     for (k, (body, pose)) in model.bodies.iter().zip(poses).enumerate() {
         let colour = body_colour(k);

@@ -49,6 +49,16 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
                 format_for_people(c.clearance),
                 format_for_people(c.journal_radius)
             ),
+            JointKind::PrismaticClearance(p) => format!(
+                " (guide on {}, slider on {}, c = {} m, L = {} m, w = {} m, K = {} N/m^{})",
+                model.frame_name(j.a.frame),
+                model.frame_name(j.b.frame),
+                format_for_people(p.clearance),
+                format_for_people(p.slider_length),
+                format_for_people(p.slider_width),
+                format_for_people(p.stiffness),
+                format_for_people(p.exponent)
+            ),
             _ => String::new(),
         };
         println!(

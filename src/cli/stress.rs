@@ -18,7 +18,8 @@ pub struct StressArgs {
     /// The quick subset for CI: one case per axis, rtol 1e-6, 2-turn runs, 4 s per run.
     #[arg(long)]
     quick: bool,
-    /// Directory holding farahan2016.toml and slider_crank_clearance.toml.
+    /// Directory holding farahan2016.toml, slider_crank_clearance.toml and
+    /// slider_crank_prismatic_clearance.toml.
     #[arg(long, default_value = "models")]
     models: PathBuf,
     /// Wall-clock budget of each run (s); default 4 (quick) or 60 (full).

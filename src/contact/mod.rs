@@ -56,6 +56,7 @@
 //!    mechanism having revolute joint with clearance, *Journal of Theoretical and Applied Vibration
 //!    and Acoustics* (2016), <https://tava.isav.ir/article_19881.html>.
 
+pub mod corner;
 pub mod events;
 pub mod friction;
 pub mod grazing;

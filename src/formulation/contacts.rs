@@ -6,8 +6,14 @@
 //! derivative (0 = no impact recorded), changed only at located events. So the equations stay a
 //! pure function of (t, y): every sample, restart and clone sees the δ̇⁽⁻⁾ that was valid at its
 //! time, and the same run gives the same numbers.
+//!
+//! The corners of prismatic-clearance joints are contact sites too, four per joint
+//! ([`CornerSite`]), numbered after the revolute joints: site k < [`ContactSites::sites`]`.len()`
+//! is a revolute joint, the rest corners in [`ContactSites::corners`] order. Every per-site
+//! method takes either; a model without prismatic-clearance joints never reaches their code.
 
 use super::FormulationError;
+pub use super::corner_contacts::CornerSite;
 use crate::contact::{
     CentreMotion, ClearanceJoint, ContactForces, ContactKinematics, free_flight_max_step,
     impact_velocity, kinks,
@@ -48,6 +54,8 @@ pub struct ContactSites {
     /// The joints whose friction kinks are event functions, with their slip speeds (v0, v1)
     /// (`contact/kinks.rs`; empty unless [`ContactSites::set_kink_events`] switched them on).
     kinks: Vec<(usize, [f64; 2])>,
+    /// The corner sites of the prismatic-clearance joints, after the revolute joints' sites.
+    corners: Vec<CornerSite>,
 }
 
 impl ContactSites {
@@ -67,9 +75,17 @@ impl ContactSites {
                 _ => None,
             })
             .collect();
+        let corners = model
+            .joints
+            .iter()
+            .enumerate()
+            .filter(|(_, j)| matches!(j.kind, JointKind::PrismaticClearance(_)))
+            .flat_map(|(i, _)| CornerSite::of_joint(model, JointId(i)))
+            .collect();
         ContactSites {
             sites,
             kinks: Vec::new(),
+            corners,
         }
     }
 
@@ -82,6 +98,9 @@ impl ContactSites {
                 .iter()
                 .enumerate()
                 .filter_map(|(k, s)| kinks::friction_kinks(&s.contact.friction).map(|v| (k, v)))
+                .chain(self.corners.iter().enumerate().filter_map(|(i, c)| {
+                    kinks::friction_kinks(&c.contact.friction).map(|v| (self.sites.len() + i, v))
+                }))
                 .collect()
         } else {
             Vec::new()
@@ -91,22 +110,41 @@ impl ContactSites {
     /// Number of event functions: one δ per joint, then [`kinks::N_KINK_EVENTS`] per joint
     /// with kink events.
     pub fn n_events(&self) -> usize {
-        self.sites.len() + kinks::N_KINK_EVENTS * self.kinks.len()
+        self.len() + kinks::N_KINK_EVENTS * self.kinks.len()
     }
 
-    /// Number of clearance joints.
+    /// Number of contact sites: revolute clearance joints and corners.
     pub fn len(&self) -> usize {
-        self.sites.len()
+        self.sites.len() + self.corners.len()
     }
 
     /// True if there are none.
     pub fn is_empty(&self) -> bool {
-        self.sites.is_empty()
+        self.sites.is_empty() && self.corners.is_empty()
     }
 
-    /// The joints.
+    /// The revolute clearance joints (sites 0..`sites().len()`).
     pub fn sites(&self) -> &[ContactSite] {
         &self.sites
+    }
+
+    /// The corner sites (sites `sites().len()`.. in this order).
+    pub fn corners(&self) -> &[CornerSite] {
+        &self.corners
+    }
+
+    /// The corner of site `k`, `None` for a revolute joint.
+    fn corner(&self, k: usize) -> Option<&CornerSite> {
+        k.checked_sub(self.sites.len())
+            .and_then(|i| self.corners.get(i))
+    }
+
+    /// The contact law, friction and radii of site `k` (a revolute joint's or a corner's).
+    pub fn contact_model(&self, k: usize) -> Option<&ClearanceJoint> {
+        match self.sites.get(k) {
+            Some(site) => Some(&site.contact),
+            None => self.corner(k).map(|c| &c.contact),
+        }
     }
 
     /// Centres and relative kinematics of joint `k` at (q, q̇), without forces.
@@ -152,6 +190,9 @@ impl ContactSites {
         acc: &[f64],
         stored: f64,
     ) -> (SiteState, [f64; 2]) {
+        if let Some(c) = self.corner(k) {
+            return c.motion(q, v, acc, stored);
+        }
         let site = &self.sites[k];
         let state = self.site_state_alone(k, q, v, stored);
         let a_b = point_acceleration(site.bearing.frame, state.bearing, acc);
@@ -163,6 +204,9 @@ impl ContactSites {
     /// evaluating only the joint's two bodies (see [`ContactSites::site_state`] for the form
     /// that reuses the right-hand side's sines and cosines of every body).
     pub fn site_state_alone(&self, k: usize, q: &[f64], v: &[f64], stored: f64) -> SiteState {
+        if let Some(c) = self.corner(k) {
+            return c.state_alone(q, v, stored);
+        }
         let (bearing, journal) = self.site_centres(k, q, v);
         let kinematics = self.sites[k]
             .contact
@@ -197,6 +241,22 @@ impl ContactSites {
         sin_cos: &[(f64, f64)],
         stored: f64,
     ) -> SiteState {
+        if let Some(c) = self.corner(k) {
+            return c.state(q, v, sin_cos, stored);
+        }
+        self.joint_state(k, q, v, sin_cos, stored)
+    }
+
+    /// [`ContactSites::site_state`] of a revolute joint `k` (< `sites().len()`): what the
+    /// right-hand side's loop over the joints calls, without the corner dispatch.
+    fn joint_state(
+        &self,
+        k: usize,
+        q: &[f64],
+        v: &[f64],
+        sin_cos: &[(f64, f64)],
+        stored: f64,
+    ) -> SiteState {
         let (bearing, journal, kinematics) = self.site_kinematics(k, q, v, sin_cos);
         SiteState {
             bearing,
@@ -224,7 +284,7 @@ impl ContactSites {
     ) -> Result<f64, FormulationError> {
         let mut dissipated = 0.0;
         for k in 0..self.sites.len() {
-            let s = self.site_state(k, q, v, sin_cos, stored[k]);
+            let s = self.joint_state(k, q, v, sin_cos, stored[k]);
             if s.kinematics.delta <= 0.0 {
                 continue;
             }
@@ -262,6 +322,66 @@ impl ContactSites {
                 out,
             );
         }
+        if !self.corners.is_empty() {
+            dissipated += self.add_corner_forces_into(
+                t,
+                q,
+                v,
+                sin_cos,
+                stored,
+                out,
+                dissipation,
+                &joint_name,
+            )?;
+        }
+        Ok(dissipated)
+    }
+
+    /// [`ContactSites::add_forces_into`] for the corner sites: each corner's force at the
+    /// corner on the slider and at the guide's material point under it (no moments about
+    /// them). The power of the pair is −F_N δ̇ + F_T v_t, its elastic part −F_e δ̇.
+    #[allow(clippy::too_many_arguments)] // as add_forces_into
+    #[inline(never)] // out of the revolute joints' loop: a model without corners never calls it
+    fn add_corner_forces_into(
+        &self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        sin_cos: &[(f64, f64)],
+        stored: &[f64],
+        out: &mut [f64],
+        dissipation: bool,
+        joint_name: &impl Fn(JointId) -> String,
+    ) -> Result<f64, FormulationError> {
+        let mut dissipated = 0.0;
+        let first = self.sites.len();
+        for (i, c) in self.corners.iter().enumerate() {
+            let s = c.state(q, v, sin_cos, stored.get(first + i).copied().unwrap_or(0.0));
+            if s.kinematics.delta <= 0.0 {
+                continue;
+            }
+            if s.kinematics.delta > c.max_penetration {
+                return Err(FormulationError::PenetrationTooDeep {
+                    t,
+                    joint: format!(
+                        "{} (corner {})",
+                        joint_name(c.joint),
+                        super::corner_contacts::CORNER_NAMES[c.corner.min(3)]
+                    ),
+                    penetration: s.kinematics.delta,
+                    limit: c.max_penetration,
+                });
+            }
+            if dissipation {
+                let elastic = c.contact.law.elastic_force(s.kinematics.delta);
+                dissipated -= s.forces.power + elastic * s.kinematics.delta_dot;
+            }
+            if s.forces.normal_force == 0.0 {
+                continue;
+            }
+            add(c.slider, s.journal.arm, s.forces.on_journal, 0.0, out);
+            add(c.guide, s.bearing.arm, s.forces.on_bearing, 0.0, out);
+        }
         Ok(dissipated)
     }
 
@@ -273,6 +393,12 @@ impl ContactSites {
             let delta = self.site_kinematics(k, q, v, sin_cos).2.delta;
             if delta > 0.0 {
                 energy += site.contact.law.elastic_energy(delta);
+            }
+        }
+        for c in &self.corners {
+            let delta = c.state(q, v, sin_cos, 0.0).kinematics.delta;
+            if delta > 0.0 {
+                energy += c.contact.law.elastic_energy(delta);
             }
         }
         energy
@@ -289,16 +415,23 @@ impl ContactSites {
         stored: &[f64],
         g: &mut [f64],
     ) {
-        let (deltas, rest) = g.split_at_mut(self.sites.len().min(g.len()));
-        for (k, gk) in deltas.iter_mut().enumerate() {
+        let (deltas, rest) = g.split_at_mut(self.len().min(g.len()));
+        let (joints, corners) = deltas.split_at_mut(self.sites.len().min(deltas.len()));
+        for (k, gk) in joints.iter_mut().enumerate() {
             *gk = self.site_kinematics(k, q, v, sin_cos).2.delta;
+        }
+        for (c, gk) in self.corners.iter().zip(corners) {
+            *gk = c.state(q, v, sin_cos, 0.0).kinematics.delta;
         }
         for (&(k, speeds), gk) in self
             .kinks
             .iter()
             .zip(rest.chunks_exact_mut(kinks::N_KINK_EVENTS))
         {
-            let slip = self.site_kinematics(k, q, v, sin_cos).2.tangential_velocity;
+            let slip = match self.corner(k) {
+                Some(c) => c.state(q, v, sin_cos, 0.0).kinematics.tangential_velocity,
+                None => self.site_kinematics(k, q, v, sin_cos).2.tangential_velocity,
+            };
             kinks::kink_events(speeds, stored[k], slip, gk);
         }
     }
@@ -308,6 +441,10 @@ impl ContactSites {
     /// for it. True for no joints.
     pub fn all_in_contact(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> bool {
         (0..self.sites.len()).all(|k| in_contact(&self.site_kinematics(k, q, v, sin_cos).2))
+            && self
+                .corners
+                .iter()
+                .all(|c| in_contact(&c.state(q, v, sin_cos, 0.0).kinematics))
     }
 
     /// The grazing guard: the largest step allowed from (q, q̇, q̈), the minimum over the free
@@ -327,6 +464,24 @@ impl ContactSites {
                 kinematics.relative_speed(),
                 rel,
                 site.contact.clearance,
+            ));
+        }
+        for c in &self.corners {
+            let s = c.state(q, v, sin_cos, 0.0);
+            if in_contact(&s.kinematics) {
+                continue;
+            }
+            // A flat surface: the gap closes at δ̇ alone, not at the slider's speed along the
+            // guide, so V = |δ̇|; A bounds |δ̈| by |ë| plus the Coriolis term of a turning guide.
+            let a_c = point_acceleration(c.slider, s.journal, acc);
+            let a_q = point_acceleration(c.guide, s.bearing, acc);
+            let rel = (a_c[0] - a_q[0]).hypot(a_c[1] - a_q[1])
+                + (2.0 * s.bearing.omega * s.kinematics.tangential_velocity).abs();
+            h = h.min(free_flight_max_step(
+                s.kinematics.delta,
+                s.kinematics.delta_dot.abs(),
+                rel,
+                c.contact.clearance,
             ));
         }
         h

@@ -646,7 +646,8 @@ impl Dae {
 
     /// Reaction force (N, global) of each joint on its second body, and each driver's torque
     /// (N·m) on the second body of its joint, from the multipliers of an evaluation.
-    /// Clearance joints get no entry here (their force is the contact force).
+    /// Revolute clearance joints get no entry here (their force is the contact force); a
+    /// prismatic-clearance joint's is the sum of its corners' contact forces on the slider.
     pub fn reactions(&self, t: f64, y: &[f64], eval: &DaeEvaluation) -> (Vec<[f64; 2]>, Vec<f64>) {
         let n = self.n_coordinates();
         let (q, v) = (&y[..n], &y[n..2 * n]);
@@ -669,14 +670,24 @@ impl Dae {
                 RowSource::Driver(d) => driver_torques[*d] = -jb[2] * l,
             }
         }
+        // A prismatic-clearance joint's reaction on the slider: its corners' contact forces.
+        let first = self.contacts.sites().len();
+        for (i, corner) in self.contacts.corners().iter().enumerate() {
+            let f = self.contact_state(first + i, y).forces.on_journal;
+            if let Some(total) = joint_forces.get_mut(corner.joint.0) {
+                total[0] += f[0];
+                total[1] += f[1];
+            }
+        }
         (joint_forces, driver_torques)
     }
 }
 
 impl Outputs for Dae {
     /// Names of the output columns, in order: per body `B.x B.y B.phi B.vx B.vy B.omega B.ax B.ay
-    /// B.alpha`, per ideal joint `J.fx J.fy`, per driver `D.torque`, per clearance joint, the
-    /// energy columns if kept, and last per output point `P.x P.y P.vx P.vy P.ax P.ay`.
+    /// B.alpha`, per ideal or prismatic-clearance joint `J.fx J.fy`, per driver `D.torque`, per
+    /// clearance joint `J.ex J.ey J.delta J.fn J.ft`, per slider corner `J.c1.delta J.c1.fn
+    /// J.c1.ft`, the energy columns if kept, and last per output point `P.x P.y P.vx P.vy P.ax P.ay`.
     fn output_names(&self) -> Vec<String> {
         let mut names = Vec::new();
         for b in &self.model.bodies {
@@ -697,6 +708,13 @@ impl Outputs for Dae {
             let j = &self.model.joint(site.joint).name;
             for c in ["ex", "ey", "delta", "fn", "ft"] {
                 names.push(format!("{j}.{c}"));
+            }
+        }
+        // Corners of prismatic-clearance joints: `J.c1.delta J.c1.fn J.c1.ft` ….
+        for corner in self.contacts.corners() {
+            let c = corner.name(&self.model);
+            for q in ["delta", "fn", "ft"] {
+                names.push(format!("{c}.{q}"));
             }
         }
         if self.energy {
@@ -730,7 +748,9 @@ impl Outputs for Dae {
         out.extend_from_slice(&driver_torques);
         for k in 0..self.contacts.len() {
             let s = self.contact_state(k, y);
-            out.extend_from_slice(&s.kinematics.e);
+            if k < self.contacts.sites().len() {
+                out.extend_from_slice(&s.kinematics.e);
+            }
             out.extend_from_slice(&[
                 s.kinematics.delta,
                 s.forces.normal_force,

@@ -8,6 +8,7 @@ pub mod assembly;
 pub mod cholesky;
 pub mod contact_slopes;
 pub mod contacts;
+pub mod corner_contacts;
 pub mod dae;
 pub mod generalized;
 pub mod jacobian;

@@ -209,6 +209,23 @@ impl ConstraintSet {
                     });
                 }
                 JointKind::Clearance(_) => continue,
+                // Assembled as the ideal prismatic joint with the slider centre moved by the
+                // initial offset along the guide normal and turned by the initial tilt.
+                JointKind::PrismaticClearance(p) if assembling => {
+                    let normal = perp(p.axis);
+                    elements.push(Element::Prismatic {
+                        a,
+                        sa: [
+                            sa[0] + p.initial_offset * normal[0],
+                            sa[1] + p.initial_offset * normal[1],
+                        ],
+                        b,
+                        sb,
+                        normal,
+                        angle: p.angle + p.initial_tilt,
+                    });
+                }
+                JointKind::PrismaticClearance(_) => continue,
                 JointKind::Prismatic { axis, angle } => {
                     elements.push(Element::Prismatic {
                         a,
@@ -221,7 +238,7 @@ impl ConstraintSet {
                 }
             }
             match j.kind {
-                JointKind::Prismatic { .. } => {
+                JointKind::Prismatic { .. } | JointKind::PrismaticClearance(_) => {
                     sources.push(RowSource::PrismaticAngle(joint));
                     sources.push(RowSource::PrismaticNormal(joint));
                 }

@@ -262,7 +262,7 @@ pub struct InitialFile {
 pub struct JointFile {
     /// Unique joint name.
     pub name: Name,
-    /// "revolute" | "prismatic" | "clearance".
+    /// "revolute" | "prismatic" | "clearance" | "prismatic-clearance".
     #[serde(rename = "type")]
     pub kind: Name,
     /// First body (revolute, prismatic).
@@ -309,6 +309,15 @@ pub struct JointFile {
     pub friction: Option<Spanned<FrictionFile>>,
     /// Clearance: `true` runs the joint as an ideal revolute joint (see `model::ideal`).
     pub ideal: Option<Spanned<bool>>,
+    /// Prismatic clearance: slider length L (m).
+    pub slider_length: Option<Num>,
+    /// Prismatic clearance: slider width w (m), default 0.
+    pub slider_width: Option<Num>,
+    /// Prismatic clearance: initial offset of the slider centre from the guide centreline
+    /// along perp(axis) (m), default 0.
+    pub initial_offset: Option<Num>,
+    /// Prismatic clearance: initial tilt of the slider from its nominal angle (rad), default 0.
+    pub initial_tilt: Option<Num>,
 }
 
 /// Material of one side of a clearance joint.

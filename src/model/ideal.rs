@@ -20,13 +20,19 @@ pub fn ideal_override(name: &str) -> String {
     format!("joints.{name}.ideal=true")
 }
 
-/// The ideal revolute joint that replaces a clearance joint: bearing centre (a) pinned to journal
-/// centre (b), the anchors unchanged.
+/// The ideal joint that replaces a clearance joint, the anchors unchanged: for a revolute
+/// clearance joint the revolute joint that pins the bearing centre (a) to the journal centre
+/// (b); for a prismatic-clearance joint the prismatic joint that holds the slider centre (b) on
+/// the guide's centreline, aligned at the nominal angle (the clearance c → 0).
 pub fn ideal_joint(joint: Joint) -> Joint {
-    Joint {
-        kind: JointKind::Revolute,
-        ..joint
-    }
+    let kind = match &joint.kind {
+        JointKind::PrismaticClearance(p) => JointKind::Prismatic {
+            axis: p.axis,
+            angle: p.angle,
+        },
+        _ => JointKind::Revolute,
+    };
+    Joint { kind, ..joint }
 }
 
 /// `model` with the clearance joints named in `names` made ideal ([`ideal_joint`]), each recorded
@@ -39,7 +45,12 @@ pub fn idealise(mut model: Model, names: &[String]) -> Result<Model, ModelError>
         let clearance: Vec<&str> = model
             .joints
             .iter()
-            .filter(|j| matches!(j.kind, JointKind::Clearance(_)))
+            .filter(|j| {
+                matches!(
+                    j.kind,
+                    JointKind::Clearance(_) | JointKind::PrismaticClearance(_)
+                )
+            })
             .map(|j| j.name.as_str())
             .collect();
         let listed = if clearance.is_empty() {
@@ -56,12 +67,14 @@ pub fn idealise(mut model: Model, names: &[String]) -> Result<Model, ModelError>
         };
         let joint = model.joints.remove(k);
         match joint.kind {
-            JointKind::Clearance(_) => {
+            JointKind::Clearance(_) | JointKind::PrismaticClearance(_) => {
                 model.joints.insert(k, ideal_joint(joint));
                 model.source.overrides.push(ideal_override(name));
             }
             // Named twice: the first made it ideal; the override is recorded once.
-            JointKind::Revolute if model.source.overrides.contains(&ideal_override(name)) => {
+            JointKind::Revolute | JointKind::Prismatic { .. }
+                if model.source.overrides.contains(&ideal_override(name)) =>
+            {
                 model.joints.insert(k, joint);
             }
             _ => {

@@ -52,7 +52,7 @@ struct Def(&'static str, &'static str, &'static [Field]);
 const REQ: bool = true;
 const OPT: bool = false;
 
-const JOINT_TYPES: &[&str] = &["revolute", "prismatic", "clearance"];
+const JOINT_TYPES: &[&str] = &["revolute", "prismatic", "clearance", "prismatic-clearance"];
 const DRIVER_TYPES: &[&str] = &["constant-speed", "speed-ramp", "prescribed-angle", "torque"];
 const FORCE_TYPES: &[&str] = &["spring-damper", "torque", "force"];
 const SHAPE_TYPES: &[&str] = &["bar", "polygon", "disc"];
@@ -273,14 +273,14 @@ const DEFS: &[Def] = &[
     ),
     Def(
         "JointFile",
-        "[[joints]]: the fields of its type only (revolute, prismatic: body_a … point_b; clearance: bearing … ideal).",
+        "[[joints]]: the fields of its type only (revolute, prismatic: body_a … point_b; clearance: bearing … ideal; prismatic-clearance: body_a … angle, clearance, slider_length, slider_width, stiffness, initial_offset, initial_tilt, contact, friction, ideal).",
         &[
             Field("name", Str, REQ, "Unique joint name."),
             Field(
                 "type",
                 OneOf(JOINT_TYPES),
                 REQ,
-                "revolute | prismatic | clearance.",
+                "revolute | prismatic | clearance | prismatic-clearance.",
             ),
             Field("body_a", Str, OPT, "First body (revolute, prismatic)."),
             Field("point_a", Str, OPT, "Point on the first body."),
@@ -290,13 +290,13 @@ const DEFS: &[Def] = &[
                 "axis",
                 Vec2,
                 OPT,
-                "Prismatic: sliding direction in the first body's frame, default [1, 0].",
+                "Prismatic, prismatic-clearance: sliding direction (guide centreline) in the first body's frame, default [1, 0].",
             ),
             Field(
                 "angle",
                 Num,
                 OPT,
-                "Prismatic: fixed relative angle φ_b − φ_a (rad), default 0.",
+                "Prismatic: fixed relative angle φ_b − φ_a (rad), default 0; prismatic-clearance: the angle at which the slider lies along the guide.",
             ),
             Field(
                 "bearing",
@@ -326,7 +326,7 @@ const DEFS: &[Def] = &[
                 "clearance",
                 Num,
                 OPT,
-                "Clearance: radial clearance c = R_B − R_J (m).",
+                "Clearance: radial clearance c = R_B − R_J (m); prismatic-clearance: gap between slider and each guide surface, centred (m).",
             ),
             Field(
                 "journal_radius",
@@ -368,7 +368,7 @@ const DEFS: &[Def] = &[
                 "stiffness",
                 Num,
                 OPT,
-                "Clearance: generalised stiffness K (N/m^n), overriding the value from the materials.",
+                "Clearance: generalised stiffness K (N/m^n), overriding the value from the materials; prismatic-clearance: K of each corner contact (N/m^n), required.",
             ),
             Field(
                 "initial_eccentricity",
@@ -380,19 +380,43 @@ const DEFS: &[Def] = &[
                 "contact",
                 Table("ContactFile"),
                 OPT,
-                "Clearance: the normal-force law.",
+                "Clearance, prismatic-clearance: the normal-force law (prismatic-clearance: a point-contact law).",
             ),
             Field(
                 "friction",
                 Table("FrictionFile"),
                 OPT,
-                "Clearance: the friction law.",
+                "Clearance, prismatic-clearance: the friction law.",
             ),
             Field(
                 "ideal",
                 Bool,
                 OPT,
-                "Clearance: true runs the joint as an ideal revolute joint.",
+                "Clearance: true runs the joint as an ideal revolute joint; prismatic-clearance: as an ideal prismatic joint.",
+            ),
+            Field(
+                "slider_length",
+                Num,
+                OPT,
+                "Prismatic-clearance: slider length L between its front and rear corners (m), required.",
+            ),
+            Field(
+                "slider_width",
+                Num,
+                OPT,
+                "Prismatic-clearance: slider width w (m), default 0; the guide is w + 2c wide.",
+            ),
+            Field(
+                "initial_offset",
+                Num,
+                OPT,
+                "Prismatic-clearance: initial offset of the slider centre from the guide centreline along perp(axis) (m), default 0.",
+            ),
+            Field(
+                "initial_tilt",
+                Num,
+                OPT,
+                "Prismatic-clearance: initial tilt of the slider from its nominal angle (rad), default 0.",
             ),
         ],
     ),

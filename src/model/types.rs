@@ -211,6 +211,41 @@ pub struct ClearanceSpec {
     pub initial_eccentricity: [f64; 2],
 }
 
+/// Data of a translational (prismatic) joint with clearance: a rectangular slider of length L
+/// and width w in a guide of width w + 2c, contacting the guide's two surfaces at its four
+/// corners (see `contact::corner` and docs/translational_clearance.md).
+#[derive(Debug, Clone, Serialize)]
+pub struct PrismaticClearanceSpec {
+    /// Unit direction of the guide's centreline in the frame of body a (the guide).
+    pub axis: [f64; 2],
+    /// Nominal relative angle φ_b − φ_a (rad) at which the slider lies along the guide.
+    pub angle: f64,
+    /// Clearance c (m), > 0: the gap between the slider and each guide surface when the slider
+    /// is centred and aligned; the guide's width is w + 2c.
+    pub clearance: f64,
+    /// Slider length L (m), > 0: the distance between its front and rear corners.
+    pub slider_length: f64,
+    /// Slider width w (m), ≥ 0 (0: a thin blade between the surfaces).
+    pub slider_width: f64,
+    /// Generalised stiffness K (N/m^n) of each corner contact.
+    pub stiffness: f64,
+    /// Normal-force law (a point-contact law).
+    pub law: ContactLawKind,
+    /// Hysteresis factor of the law.
+    pub damping: DampingKind,
+    /// Coefficient of restitution c_r ∈ (0, 1].
+    pub restitution: f64,
+    /// Exponent n of the penetration.
+    pub exponent: f64,
+    /// Friction law.
+    pub friction: FrictionSpec,
+    /// Initial offset of the slider centre from the guide centreline along the guide normal
+    /// perp(axis) (m).
+    pub initial_offset: f64,
+    /// Initial tilt of the slider from its nominal angle (rad).
+    pub initial_tilt: f64,
+}
+
 /// What a joint is.
 #[derive(Debug, Clone, Serialize)]
 pub enum JointKind {
@@ -227,6 +262,9 @@ pub enum JointKind {
     /// Revolute joint with clearance: body a carries the bearing, body b the journal. No
     /// constraint: a contact-force law.
     Clearance(ClearanceSpec),
+    /// Translational joint with clearance: body a carries the guide (two parallel surfaces),
+    /// body b the rectangular slider. No constraint: four corner contacts.
+    PrismaticClearance(PrismaticClearanceSpec),
 }
 
 impl JointKind {
@@ -236,6 +274,7 @@ impl JointKind {
             JointKind::Revolute => "revolute",
             JointKind::Prismatic { .. } => "prismatic",
             JointKind::Clearance(_) => "clearance",
+            JointKind::PrismaticClearance(_) => "prismatic-clearance",
         }
     }
 }
@@ -515,7 +554,7 @@ pub struct Model {
 }
 
 impl Model {
-    /// The smallest radial clearance c of the model's clearance joints (m), `None` without
+    /// The smallest clearance c of the model's clearance joints (radial, or per side of a guide; m), `None` without
     /// any: the scale against which a constraint drift is judged (a drift of a tenth of the
     /// clearance already moves the journal as far as the physics under study does).
     pub fn smallest_clearance(&self) -> Option<f64> {
@@ -523,6 +562,7 @@ impl Model {
             .iter()
             .filter_map(|j| match &j.kind {
                 JointKind::Clearance(c) => Some(c.clearance),
+                JointKind::PrismaticClearance(p) => Some(p.clearance),
                 _ => None,
             })
             .reduce(f64::min)
@@ -556,7 +596,8 @@ impl Model {
         }
     }
 
-    /// True if any joint is a clearance joint.
+    /// True if any joint is a revolute clearance joint (prismatic-clearance joints not counted:
+    /// the animation's clearance circles and journal arrows are theirs).
     pub fn has_clearance_joints(&self) -> bool {
         self.joints
             .iter()

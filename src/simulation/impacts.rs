@@ -80,6 +80,15 @@ pub trait ContactProbe {
     ) -> Result<ContactMotion, FormulationError>;
 }
 
+/// The error for a contact site index past the model's sites (a caller's bug, reported rather
+/// than a panic).
+fn no_site(k: usize) -> FormulationError {
+    FormulationError::Unsupported {
+        formulation: "DAE".into(),
+        reason: format!("no contact site {k}"),
+    }
+}
+
 /// The [`ContactMotion`] of a joint from its kinematics and forces, the relative acceleration
 /// of its centres and its stored impact velocity.
 fn motion_of(
@@ -133,7 +142,7 @@ impl ContactProbe for Dae {
         y_dot: &[f64],
     ) -> Result<ContactMotion, FormulationError> {
         let (s, e_ddot, stored) = self.contact_motion_state(k, y, y_dot);
-        let joint = &self.contacts().sites()[k].contact;
+        let joint = self.contacts().contact_model(k).ok_or_else(|| no_site(k))?;
         Ok(motion_of(
             joint,
             &s.kinematics,
@@ -160,7 +169,11 @@ impl ContactProbe for Generalized {
         y_dot: &[f64],
     ) -> Result<ContactMotion, FormulationError> {
         let (s, e_ddot, stored) = self.contact_motion_state(k, t, y, y_dot)?;
-        let joint = &self.dae().contacts().sites()[k].contact;
+        let joint = self
+            .dae()
+            .contacts()
+            .contact_model(k)
+            .ok_or_else(|| no_site(k))?;
         Ok(motion_of(
             joint,
             &s.kinematics,

@@ -83,6 +83,7 @@ fn kink_events(solver: &mut solve::SolverOptions, model: &Model) -> bool {
         solve::KinkEvents::WhereStepsAreCut => {
             let continuous = model.joints.iter().all(|j| match &j.kind {
                 JointKind::Clearance(spec) => kinks::continuous(&spec.friction),
+                JointKind::PrismaticClearance(spec) => kinks::continuous(&spec.friction),
                 _ => true,
             });
             if solver.rtol > EXPLICIT_CUT_MAX_RTOL || !continuous {
@@ -330,14 +331,25 @@ impl Simulation {
     }
 }
 
-/// Names of the model's clearance joints, in model order (the order of their events).
+/// Names of the model's contact sites in the order of their events: the revolute clearance
+/// joints in model order, then the corners of the prismatic-clearance joints (`J.c1` … `J.c4`,
+/// `formulation::contacts`).
 pub fn clearance_joint_names(model: &Model) -> Vec<String> {
-    model
+    let revolute = model
         .joints
         .iter()
         .filter(|j| matches!(j.kind, JointKind::Clearance(_)))
-        .map(|j| j.name.clone())
-        .collect()
+        .map(|j| j.name.clone());
+    let corners = model
+        .joints
+        .iter()
+        .filter(|j| matches!(j.kind, JointKind::PrismaticClearance(_)))
+        .flat_map(|j| {
+            crate::formulation::corner_contacts::CORNER_NAMES
+                .iter()
+                .map(move |c| format!("{}.{c}", j.name))
+        });
+    revolute.chain(corners).collect()
 }
 
 #[cfg(test)]

@@ -1,5 +1,6 @@
 //! Stress table (docs/numerics.md, "Numerics under stress"): stiff and extreme cases of the reference four-bar
-//! (`farahan2016.toml`) and the two-joint slider-crank (`slider_crank_clearance.toml`), each run
+//! (`farahan2016.toml`), the two-joint slider-crank (`slider_crank_clearance.toml`) and the
+//! slider-crank with clearance in the slider's guide (`slider_crank_prismatic_clearance.toml`), each run
 //! on every formulation the model supports × every method of [`Method::ALL`] × a list of
 //! tolerances, with a wall-clock and a step budget per run and a [`Verdict`] per cell.
 //!
@@ -35,6 +36,8 @@ use std::time::Instant;
 pub const FOURBAR: &str = "farahan2016.toml";
 /// The slider-crank with two clearance joints (DAE only).
 pub const SLIDER_CRANK: &str = "slider_crank_clearance.toml";
+/// The slider-crank with clearance in the slider's guide (DAE only).
+pub const SLIDER_GUIDE: &str = "slider_crank_prismatic_clearance.toml";
 
 /// What became of one cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
@@ -232,6 +235,7 @@ pub fn cases(quick: bool) -> Vec<StressCase> {
     let mut all = vec![
         (true, case("reference", "reference", fb, &[])),
         (true, case("reference", "reference", SLIDER_CRANK, &[])),
+        (true, case("reference", "reference", SLIDER_GUIDE, &[])),
         (
             true,
             case("clearance", "c=1um", fb, &["joints.B.clearance=1e-6"]),
@@ -369,6 +373,14 @@ pub fn cases(quick: bool) -> Vec<StressCase> {
         ("friction", "cf=1.0", "joints.B.friction.coefficient=1.0"),
     ] {
         all.push((false, case(axis, name, SLIDER_CRANK, &[set])));
+    }
+    // The slider in its guide with clearance (joint rail) at the extremes.
+    for (axis, name, set) in [
+        ("clearance", "c=1um", "joints.rail.clearance=1e-6"),
+        ("speed", "rpm=3500", "drivers.motor.speed_rpm=3500"),
+        ("friction", "cf=1.0", "joints.rail.friction.coefficient=1.0"),
+    ] {
+        all.push((false, case(axis, name, SLIDER_GUIDE, &[set])));
     }
     let mut long = case("duration", "1000 turns", fb, &[]);
     long.turns = 1000.0;
@@ -696,7 +708,7 @@ pub fn run_stress(
     mut progress: impl FnMut(&StressCase, &[StressCell]),
 ) -> StressReport {
     let mut models = Vec::new();
-    for file in [FOURBAR, SLIDER_CRANK] {
+    for file in [FOURBAR, SLIDER_CRANK, SLIDER_GUIDE] {
         if let Ok(m) = model::load(&options.models_dir.join(file), &[]) {
             models.push(m.source);
         }

@@ -333,6 +333,28 @@ impl ContactLaw {
         }
     }
 
+    /// A point-contact law K δⁿ (1 + χ(c_r) δ̇/δ̇⁽⁻⁾) with the stiffness K (N/m^n) given: the
+    /// corner contacts of a prismatic-clearance joint (`contact::corner`), which have no
+    /// bearing geometry to compute K from.
+    pub fn power(
+        kind: ContactLawKind,
+        damping: DampingKind,
+        stiffness: f64,
+        exponent: f64,
+        restitution: f64,
+    ) -> ContactLaw {
+        ContactLaw {
+            kind,
+            elastic: Elastic::Power {
+                stiffness,
+                exponent,
+            },
+            damping,
+            restitution,
+            chi: damping_factor(damping, restitution),
+        }
+    }
+
     /// The hysteresis factor χ(c_r) of this law (–): the coefficient of δ̇/δ̇⁽⁻⁾.
     #[inline]
     pub fn damping_factor(&self) -> f64 {

@@ -53,6 +53,70 @@ use crate::mechanics::constraints::{ConstraintRow, RowCurvature};
 use crate::mechanics::planar::{cross, perp};
 use crate::model::{Baumgarte, Frame};
 
+/// ∂Q/∂y of one slider corner in contact (`formulation/corner_contacts.rs`), handed to
+/// `add(row, column, value)`, by central differences of the corner's two body forces alone over
+/// the columns of its bodies (q, q̇) and its stored impact velocity (column `stored_col`).
+/// Increments sized on the contact, not on the coordinates: a position moves by 1e-4 δ (the
+/// force goes as δⁿ, so the truncation error is ~1e-8 of the slope and the rounding ~1e-12), an
+/// angle by that over the corner's arm; a velocity by 1e-7 m/s, far below the friction law's
+/// ramp v0 (1e-4 m/s in the reference data); the stored velocity by 1e-6 of itself.
+fn corner_force_derivatives(
+    corner: &crate::formulation::contacts::CornerSite,
+    y: &[f64],
+    n: usize,
+    stored_col: usize,
+    add: &mut impl FnMut(usize, usize, f64),
+) {
+    let stored = y.get(stored_col).copied().unwrap_or(0.0);
+    let s = corner.state_alone(&y[..n], &y[n..2 * n], stored);
+    if s.kinematics.delta <= 0.0 {
+        return;
+    }
+    let bodies: Vec<usize> = corner.bodies().collect();
+    let arm = |p: &crate::mechanics::planar::PointState| p.arm[0].hypot(p.arm[1]);
+    let reach = arm(&s.journal).max(arm(&s.bearing)).max(1e-3);
+    let dq = 1e-4 * s.kinematics.delta;
+    let dv = 1e-7;
+    let mut columns: Vec<(usize, f64)> = Vec::with_capacity(13);
+    for &b in &bodies {
+        columns.extend([
+            (3 * b, dq),
+            (3 * b + 1, dq),
+            (3 * b + 2, dq / reach),
+            (n + 3 * b, dv),
+            (n + 3 * b + 1, dv),
+            (n + 3 * b + 2, dv / reach),
+        ]);
+    }
+    if stored > 0.0 {
+        columns.push((stored_col, 1e-6 * stored));
+    }
+    let mut state = y.to_vec();
+    let force_at = |state: &[f64]| {
+        let stored = state.get(stored_col).copied().unwrap_or(0.0);
+        corner.generalised_forces(&state[..n], &state[n..2 * n], stored)
+    };
+    let sides = [corner.slider, corner.guide];
+    for (col, h) in columns {
+        let y0 = state[col];
+        state[col] = y0 + h;
+        let plus = force_at(&state);
+        state[col] = y0 - h;
+        let minus = force_at(&state);
+        state[col] = y0;
+        for (side, frame) in sides.iter().enumerate() {
+            let Frame::Body(id) = frame else { continue };
+            for c in 0..3 {
+                add(
+                    3 * id.0 + c,
+                    col,
+                    (plus[side][c] - minus[side][c]) / (2.0 * h),
+                );
+            }
+        }
+    }
+}
+
 /// Relative increment of the central differences of the force elements (about u^{1/3}, the
 /// optimum for central differences of smooth functions).
 const FORCE_REL: f64 = 6e-6;
@@ -329,6 +393,10 @@ impl Dae {
                     add(b + 2, *col, d_moment);
                 }
             }
+        }
+        let first = self.contacts.sites().len();
+        for (i, corner) in self.contacts.corners().iter().enumerate() {
+            corner_force_derivatives(corner, y, n, 2 * n + first + i, add);
         }
     }
 

@@ -314,6 +314,11 @@ impl DaeResidual {
 fn force_bodies(model: &Model, contacts: &ContactSites) -> Vec<usize> {
     let nb = model.bodies.len();
     let mut touched = vec![false; nb];
+    for corner in contacts.corners() {
+        for b in corner.bodies() {
+            touched[b] = true;
+        }
+    }
     let mut mark = |a: &Anchor| {
         if let Frame::Body(id) = a.frame {
             touched[id.0] = true;
@@ -323,6 +328,7 @@ fn force_bodies(model: &Model, contacts: &ContactSites) -> Vec<usize> {
         mark(&site.bearing);
         mark(&site.journal);
     }
+
     for e in &model.forces {
         match e {
             ForceElement::SpringDamper { a, b, .. } => {

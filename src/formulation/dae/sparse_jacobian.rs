@@ -120,6 +120,11 @@ impl Dae {
             );
             couple(&coords, Some(2 * n + k));
         }
+        let first = self.contacts.sites().len();
+        for (i, corner) in self.contacts.corners().iter().enumerate() {
+            let coords = body_coordinates(corner.bodies());
+            couple(&coords, Some(2 * n + first + i));
+        }
         let element_coordinates: Vec<Vec<usize>> = (0..self.applied.n_elements())
             .map(|e| body_coordinates(self.applied.element_bodies(e)))
             .collect();

@@ -24,6 +24,17 @@ pub(super) struct FourBar<'m> {
 
 /// Finds crank, coupler and rocker and their joints, or says what the model lacks.
 pub(super) fn find_four_bar(model: &Model) -> Result<FourBar<'_>, FormulationError> {
+    // First, so that a slider-crank hears why rather than a body count.
+    if let Some(j) = model
+        .joints
+        .iter()
+        .find(|j| matches!(j.kind, JointKind::PrismaticClearance(_)))
+    {
+        return Err(unsupported(format!(
+            "joint \"{}\" is a prismatic-clearance joint; the reduced formulation is the four-bar model of Farahan et al. (2016) with one revolute clearance joint and has no translational contacts (use the DAE or generalized formulation)",
+            j.name
+        )));
+    }
     let n_bodies = model.bodies.len();
     if n_bodies != 3 {
         return Err(unsupported(format!(

@@ -47,6 +47,10 @@ impl Builder<'_, '_> {
                 ("contact", j.contact.as_ref().map(|v| v.span())),
                 ("friction", j.friction.as_ref().map(|v| v.span())),
                 ("ideal", j.ideal.as_ref().map(|v| v.span())),
+                ("slider_length", sn(&j.slider_length)),
+                ("slider_width", sn(&j.slider_width)),
+                ("initial_offset", sn(&j.initial_offset)),
+                ("initial_tilt", sn(&j.initial_tilt)),
             ];
             let at = j.name.span();
             let kind_name = j.kind.get_ref().trim();
@@ -124,12 +128,50 @@ impl Builder<'_, '_> {
                         JointKind::Clearance(self.clearance(j, &what, at.clone())?),
                     )
                 }
+                "prismatic-clearance" => {
+                    let allowed = [
+                        "body_a",
+                        "point_a",
+                        "body_b",
+                        "point_b",
+                        "axis",
+                        "angle",
+                        "clearance",
+                        "slider_length",
+                        "slider_width",
+                        "stiffness",
+                        "initial_offset",
+                        "initial_tilt",
+                        "contact",
+                        "friction",
+                        "ideal",
+                    ];
+                    self.only_fields(&present, &allowed, "prismatic-clearance joint")?;
+                    let what = format!("prismatic-clearance joint \"{name}\"");
+                    let a = self.anchor(
+                        scope,
+                        self.required(&j.body_a, "body_a", &what, at.clone())?,
+                        self.required(&j.point_a, "point_a", &what, at.clone())?,
+                        &owner,
+                    )?;
+                    let b = self.anchor(
+                        scope,
+                        self.required(&j.body_b, "body_b", &what, at.clone())?,
+                        self.required(&j.point_b, "point_b", &what, at.clone())?,
+                        &owner,
+                    )?;
+                    let spec = self.prismatic_clearance(j, &what, at.clone())?;
+                    (a, b, JointKind::PrismaticClearance(spec))
+                }
                 other => {
                     return Err(self.err(
                         j.kind.span(),
                         format!(
-                            "unknown joint type \"{other}\"; expected \"revolute\", \"prismatic\" or \"clearance\"{}",
-                            did_you_mean(other, ["revolute", "prismatic", "clearance"])
+                            "unknown joint type \"{other}\"; expected \"revolute\", \"prismatic\", \"clearance\" or \"prismatic-clearance\"{}",
+                            did_you_mean(
+                                other,
+                                ["revolute", "prismatic", "clearance", "prismatic-clearance"]
+                            )
                         ),
                     ));
                 }
@@ -326,6 +368,109 @@ impl Builder<'_, '_> {
             exponent,
             friction,
             initial_eccentricity,
+        })
+    }
+
+    /// The data of a prismatic-clearance joint: clearance, slider size, the corner contacts'
+    /// stiffness (required: a corner on a flat surface has no Hertzian stiffness from the
+    /// materials alone), law and friction, and the initial pose in the guide, which must leave
+    /// every corner strictly inside (as the revolute joint's initial eccentricity must).
+    fn prismatic_clearance(
+        &self,
+        j: &JointFile,
+        what: &str,
+        at: Range<usize>,
+    ) -> Res<PrismaticClearanceSpec> {
+        let c_field = self.required(&j.clearance, "clearance", what, at.clone())?;
+        let clearance = self.within(
+            c_field,
+            "clearance (m)",
+            MIN_CLEARANCE,
+            f64::INFINITY,
+            "the roughness of polished surfaces",
+        )?;
+        let l_field = self.required(&j.slider_length, "slider_length", what, at.clone())?;
+        let slider_length = self.positive(l_field, "slider length (m)")?;
+        let slider_width = j
+            .slider_width
+            .as_ref()
+            .map(|v| self.non_negative(v, "slider width (m)"))
+            .transpose()?
+            .unwrap_or(0.0);
+        let k_field = self.required(&j.stiffness, "stiffness", what, at.clone())?;
+        let stiffness = self.within(
+            k_field,
+            "contact stiffness K (N/m^n)",
+            MIN_STIFFNESS,
+            MAX_STIFFNESS,
+            "the range the material and size bounds give",
+        )?;
+        let (law, damping, restitution, exponent) = self.contact(j.contact.as_ref())?;
+        if law.is_line_contact() {
+            let law_at = j
+                .contact
+                .as_ref()
+                .and_then(|c| c.get_ref().law.as_ref().map(|l| l.span()))
+                .unwrap_or(at.clone());
+            return Err(self.err(
+                law_at,
+                format!(
+                    "contact law \"{}\" is a line contact of a cylinder in a cylindrical hole and has no meaning for a slider's corner on a flat guide surface; expected a point-contact law (lankarani-nikravesh, hunt-crossley, flores or hertz) on {what}",
+                    law.name()
+                ),
+            ));
+        }
+        let friction = self.friction(j.friction.as_ref())?;
+        let initial_offset = j
+            .initial_offset
+            .as_ref()
+            .map(|v| self.finite(v, "initial offset (m)"))
+            .transpose()?
+            .unwrap_or(0.0);
+        let initial_tilt = j
+            .initial_tilt
+            .as_ref()
+            .map(|v| self.finite(v, "initial tilt (rad)"))
+            .transpose()?
+            .unwrap_or(0.0);
+        // The deepest corner at t = 0: max over the corners (±L/2, ±w/2) of the slider turned by
+        // the tilt and moved by the offset, of its distance past its surface.
+        let (sin, cos) = initial_tilt.sin_cos();
+        let reach = 0.5 * slider_length * sin.abs() + 0.5 * slider_width * cos - 0.5 * slider_width
+            + initial_offset.abs();
+        if !(reach < clearance && cos > 0.0) {
+            let span = j
+                .initial_offset
+                .as_ref()
+                .or(j.initial_tilt.as_ref())
+                .map(|v| v.span())
+                .unwrap_or(at);
+            return Err(self.err(
+                span,
+                format!(
+                    "the initial offset {initial_offset:e} m and tilt {initial_tilt:e} rad put a slider corner {reach:.6e} m from its centred position towards a guide surface, not less than the clearance {clearance:.6e} m; expected every corner strictly inside the guide, since a contact that is under way at t = 0 has no impact velocity to scale its damping"
+                ),
+            ));
+        }
+        Ok(PrismaticClearanceSpec {
+            axis: self.axis(j.axis.as_ref())?,
+            angle: j
+                .angle
+                .as_ref()
+                .map(|v| self.finite(v, "angle (rad)"))
+                .transpose()?
+                .unwrap_or(0.0),
+            clearance,
+            slider_length,
+            slider_width,
+            stiffness,
+            law,
+            damping,
+            restitution,
+            exponent,
+            friction,
+            initial_offset,
+            initial_tilt,
         })
     }
 
