@@ -115,6 +115,12 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
         guess_from_turn: args.guess_from_turn,
         options: args.solve.options()?.formulation(args.formulation),
     };
+    if args.solve.rtol > 1e-9 {
+        eprintln!(
+            "note: at rtol {:e} the Floquet multipliers in contact are coarse (above 1e-9), and multiplier counts that jump without a crossing are reported as not located (docs/periodic_orbits.md, \"Continuation\"); rtol 1e-10 --atol 1e-12 is advised",
+            args.solve.rtol
+        );
+    }
     // Before any work: a result is not lost to a target that cannot be written.
     let mut pair = ResultPair::begin(&args.out, Some(&args.model))?;
     for note in pair.notes() {

@@ -3,7 +3,7 @@
 //! `PATH=value`, as a point of `linkdyn bifurcation` does; the branch is computed by
 //! [`crate::analysis::orbit::continue_orbit`] (docs/periodic_orbits.md, "Continuation").
 //!
-//! Supported as for [`super::orbit`]: the reduced formulation.
+//! Supported as for [`mod@super::orbit`]: the reduced formulation.
 
 use std::path::Path;
 use std::time::Instant;
