@@ -13,6 +13,7 @@ mod check;
 mod clean;
 mod compare;
 mod compare_laws;
+mod continuation;
 mod interrupt;
 mod lyapunov;
 mod merge;
@@ -69,6 +70,9 @@ enum Command {
     Lyapunov(lyapunov::LyapunovArgs),
     /// Periodic orbit by shooting, with its Floquet multipliers (F.json, one period in F.csv).
     Orbit(orbit::OrbitArgs),
+    /// Continue a periodic orbit in one model field (pseudo-arclength): F.csv one row per
+    /// point, folds, period doublings, Neimark–Sacker points and grazing located.
+    Continue(continuation::ContinueArgs),
     /// Draw a figure (PNG or SVG) from result CSV files: series, orbit, poincare, bifurcation,
     /// spectrum, phase, lyapunov.
     Plot(plot::PlotArgs),
@@ -285,6 +289,7 @@ pub fn main() -> ExitCode {
         Command::Phase(args) => phase::run(&args),
         Command::Lyapunov(args) => lyapunov::run(&args),
         Command::Orbit(args) => orbit::run(&args),
+        Command::Continue(args) => continuation::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Stress(args) => stress::run(&args),

@@ -5,12 +5,14 @@
 //! | file | job |
 //! |---|---|
 //! | [`contact_laws`] | one scene run once per contact law of a clearance joint, compared |
+//! | [`continuation`](mod@continuation) | a periodic orbit continued in one model field, its special points |
 //! | [`formulations`] | the DAE and the reduced formulation of one model, run and compared |
 //! | [`orbit`](mod@orbit) | a periodic orbit by shooting, its Floquet multipliers and one period of it |
 //! | [`stress`] | stress table: extreme cases × formulations × methods, a verdict each |
 //! | [`workprecision`] | error against cost for every formulation × method × tolerance |
 
 pub mod contact_laws;
+pub mod continuation;
 pub mod formulations;
 pub mod orbit;
 pub mod stress;

@@ -127,20 +127,7 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
             ));
         }
     };
-    if request.options.formulation != FormulationKind::Reduced {
-        return Err(Error::settings(
-            "formulation",
-            format!(
-                "periodic orbits are computed with the reduced formulation only (the {} formulation keeps constrained coordinates in its state{}); use `formulation` reduced",
-                request.options.formulation,
-                if request.options.formulation == FormulationKind::Dae {
-                    ", whose Baumgarte-stabilised directions would add multipliers of their own"
-                } else {
-                    " and projects it at every step end, which the variational equations do not follow"
-                }
-            ),
-        ));
-    }
+    require_reduced(request.options.formulation)?;
     let guess_end = request.guess_from_turn as f64 * period;
     let sim = Simulation::new(
         model,
@@ -240,6 +227,25 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
         names,
         samples: record.samples,
     })
+}
+
+/// Refuses every formulation but the reduced one, saying why (module documentation).
+pub(crate) fn require_reduced(formulation: FormulationKind) -> Result<()> {
+    if formulation == FormulationKind::Reduced {
+        return Ok(());
+    }
+    Err(Error::settings(
+        "formulation",
+        format!(
+            "periodic orbits are computed with the reduced formulation only (the {} formulation keeps constrained coordinates in its state{}); use `formulation` reduced",
+            formulation,
+            if formulation == FormulationKind::Dae {
+                ", whose Baumgarte-stabilised directions would add multipliers of their own"
+            } else {
+                " and projects it at every step end, which the variational equations do not follow"
+            }
+        ),
+    ))
 }
 
 /// Integrates `f` from (t0, y0) to t1; returns y(t1) and the cost.

@@ -29,13 +29,18 @@
 //! Formulations that correct their state at step ends (projections) are not supported: Φ
 //! would miss the correction's derivative.
 
+pub mod continuation;
 pub mod floquet;
 pub mod monodromy;
 pub mod saltation;
 pub mod shooting;
 pub mod variational;
 
-pub use monodromy::{Shot, shoot};
+pub use continuation::{
+    Branch, BranchEnd, BranchPoint, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind,
+    continue_orbit,
+};
+pub use monodromy::{Shot, shoot, shoot_watching};
 pub use saltation::{SaltationError, saltation_matrix};
 pub use shooting::{OrbitOptions, PeriodicOrbit, periodic_orbit};
 pub use variational::Variational;

@@ -1,0 +1,266 @@
+//! A periodic orbit of a model continued in one model field (`linkdyn continue`): the field is
+//! named by its `--set` path, and each parameter value loads the model with the extra override
+//! `PATH=value`, as a point of `linkdyn bifurcation` does; the branch is computed by
+//! [`crate::analysis::orbit::continue_orbit`] (docs/periodic_orbits.md, "Continuation").
+//!
+//! Supported as for [`mod@super::orbit`]: the reduced formulation.
+
+use std::path::Path;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::analysis::AnalysisError;
+use crate::analysis::orbit::{
+    BranchEnd, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind, continue_orbit,
+};
+use crate::error::{Error, Result};
+use crate::formulation::{Formulation, Outputs, ReducedLagrangian};
+use crate::simulation::{EndTime, Provenance, Simulation, SimulationOptions, analyses};
+use crate::solve::{SolverStats, Stepper, Stop};
+
+/// What `linkdyn continue` asks for.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContinuationRequest<'a> {
+    /// The model file (named in messages and the provenance).
+    pub model_path: &'a Path,
+    /// The model's text (the file's, read once).
+    pub model_text: &'a str,
+    /// The `--set` overrides of every point, before the parameter's.
+    pub overrides: &'a [String],
+    /// The continued field, a `--set` path (`joints.B.clearance`).
+    pub parameter: &'a str,
+    /// First parameter value (the field's unit in the model file).
+    pub from: f64,
+    /// Last parameter value.
+    pub to: f64,
+    /// Largest step (parameter units); default |to − from|/20.
+    pub step: Option<f64>,
+    /// Period in driver turns (K ≥ 1).
+    pub period_turns: usize,
+    /// Periods integrated from the initial state at `from` before the first shooting (its
+    /// guess); the section is at the end of them.
+    pub guess_from_turn: usize,
+    /// Formulation and solver (the end time is ignored).
+    pub options: SimulationOptions,
+}
+
+/// One point of the branch, as `F.csv` has it.
+#[derive(Debug, Clone, Serialize)]
+pub struct ContinuationRow {
+    /// Parameter value.
+    pub parameter: f64,
+    /// The output columns at the section (in the order of [`ContinuationResult::names`]).
+    pub state: Vec<f64>,
+    /// Period (s).
+    pub period_s: f64,
+    /// Largest |μ|.
+    pub max_abs_mu: f64,
+    /// Nontrivial Floquet multipliers [re, im], by decreasing modulus.
+    pub floquet_multipliers: Vec<[f64; 2]>,
+    /// Every nontrivial |μ| < 1.
+    pub stable: bool,
+    /// Impacts (contact onsets) over one period, all clearance joints.
+    pub impacts_per_period: usize,
+    /// Smallest gap c − |e| over the step ends of one period (m); negative: the deepest
+    /// penetration.
+    pub min_gap_m: Option<f64>,
+    /// Closing error max_i |P(x)_i − x_i|/ε_i (units of the integration tolerance).
+    pub residual: f64,
+    /// A located special point: its kind.
+    pub special: Option<SpecialKind>,
+}
+
+/// The result of [`continuation`]: the keys of `F.json` (docs/periodic_orbits.md).
+#[derive(Debug, Clone, Serialize)]
+pub struct ContinuationResult {
+    /// The continued field.
+    pub parameter: String,
+    /// Output column names at the section (the CSV's columns after the parameter).
+    pub names: Vec<String>,
+    /// The branch, in order of arclength.
+    #[serde(skip)]
+    pub rows: Vec<ContinuationRow>,
+    /// Points on the branch.
+    pub points: usize,
+    /// The located special points (also rows of the CSV).
+    pub special_points: Vec<ContinuationRow>,
+    /// Special points detected between two points but not located: kind, the parameter after
+    /// the change, why.
+    pub unlocated: Vec<(SpecialKind, f64, String)>,
+    /// Why the branch ended.
+    pub end: BranchEnd,
+    /// Period in driver turns.
+    pub period_turns: usize,
+    /// Wall time (s).
+    pub wall_time_s: f64,
+    /// Cost of every integration, summed.
+    pub solver_stats: SolverStats,
+    /// What made the result.
+    pub provenance: Provenance,
+}
+
+/// The model in its field `parameter`.
+struct ModelFamily<'a> {
+    request: &'a ContinuationRequest<'a>,
+    contacts: usize,
+}
+
+impl ModelFamily<'_> {
+    fn simulation(&self, p: f64) -> Result<Simulation> {
+        let r = self.request;
+        let mut overrides = r.overrides.to_vec();
+        overrides.push(format!("{}={p}", r.parameter));
+        let model = crate::model::load_str(
+            r.model_text,
+            &r.model_path.display().to_string(),
+            &overrides,
+        )?;
+        Simulation::new(
+            &model,
+            SimulationOptions {
+                end: EndTime::DriverTurns(1.0),
+                ..r.options.clone()
+            },
+        )
+    }
+
+    /// The formulation at `p`, its section and period.
+    fn orbit_at(&self, p: f64) -> Result<OrbitAt<ReducedLagrangian>> {
+        let sim = self.simulation(p)?;
+        let omega = analyses::driver_speed(sim.model(), "period_turns")?;
+        let Some(f) = sim.reduced_formulation() else {
+            return Err(Error::settings(
+                "formulation",
+                "the simulation did not build the reduced formulation",
+            ));
+        };
+        let period = self.request.period_turns as f64 * std::f64::consts::TAU / omega;
+        Ok(OrbitAt {
+            t0: f.t0() + self.request.guess_from_turn as f64 * period,
+            f: f.clone(),
+            period,
+        })
+    }
+}
+
+impl OrbitFamily for ModelFamily<'_> {
+    type F = ReducedLagrangian;
+
+    fn at(&self, p: f64) -> std::result::Result<OrbitAt<ReducedLagrangian>, AnalysisError> {
+        self.orbit_at(p).map_err(|e| {
+            AnalysisError::invalid(
+                "parameter",
+                format!("{} = {p}: {e}", self.request.parameter),
+            )
+        })
+    }
+
+    fn contact_events(&self) -> usize {
+        self.contacts
+    }
+}
+
+/// Continues the periodic orbit of the model asked for by `request` (module documentation).
+///
+/// Errors: [`Error::Settings`] for a formulation other than the reduced one or a bad period;
+/// the model's own error at `from` or `to`; [`Error::Analysis`] when there is no orbit at
+/// `from` (the message has the residual history) or the options are invalid.
+pub fn continuation(request: &ContinuationRequest<'_>) -> Result<ContinuationResult> {
+    let started = Instant::now();
+    super::orbit::require_reduced(request.options.formulation)?;
+    if request.period_turns == 0 {
+        return Err(Error::settings(
+            "period_turns",
+            "expected a whole number of driver turns ≥ 1, got 0",
+        ));
+    }
+    let mut family = ModelFamily {
+        request,
+        contacts: 0,
+    };
+    // Both ends load and build: a bad value is bad input, not a failed point.
+    let sim = family.simulation(request.from)?;
+    family.simulation(request.to)?;
+    family.contacts = sim.clearance_joints().len();
+    let start = family.orbit_at(request.from)?;
+    let solver = sim.solver_options().clone();
+    let mut f = start.f.clone();
+    let t_begin = f.t0();
+    let y_begin = f.initial_state();
+    let mut stats = SolverStats::default();
+    let guess = {
+        let solve = |source| {
+            Error::Analysis(AnalysisError::Solve {
+                analysis: "continuation (guess)",
+                source,
+            })
+        };
+        let mut y = y_begin.clone();
+        if start.t0 > t_begin {
+            let mut stepper =
+                Stepper::new(&mut f, t_begin, &y_begin, start.t0, &solver).map_err(solve)?;
+            while stepper.step().map_err(solve)? != Stop::EndReached {}
+            stepper.interpolate(start.t0, &mut y).map_err(solve)?;
+            stats.add_run(stepper.stats());
+        }
+        y
+    };
+    let step = request
+        .step
+        .unwrap_or_else(|| (request.to - request.from).abs() / 20.0);
+    let options = ContinuationOptions::new(request.from, request.to, step);
+    let branch = continue_orbit(&family, &guess, &options, &solver)?;
+    stats.add_run(&branch.stats);
+
+    let names = start.f.output_names();
+    let mut rows = Vec::with_capacity(branch.points.len());
+    for pt in &branch.points {
+        let mut state = Vec::new();
+        start.f.outputs_into(pt.t0, &pt.y0, &mut state)?;
+        rows.push(ContinuationRow {
+            parameter: pt.parameter,
+            state,
+            period_s: pt.period,
+            max_abs_mu: pt.spectral_radius,
+            floquet_multipliers: pt.multipliers.clone(),
+            stable: pt.stable,
+            impacts_per_period: pt.impacts_per_period,
+            min_gap_m: pt.min_gap,
+            residual: pt.residual,
+            special: pt.special,
+        });
+    }
+    let fmt = crate::numbers::format_number;
+    let mut provenance = sim.provenance();
+    provenance.settings.remove("t_end");
+    // The first point's simulation has the parameter's override too; the settings say it.
+    provenance.model.overrides = request.overrides.to_vec();
+    for (key, value) in [
+        ("parameter", request.parameter.to_string()),
+        ("from", fmt(request.from)),
+        ("to", fmt(request.to)),
+        ("step", fmt(step)),
+        ("period_turns", request.period_turns.to_string()),
+        ("guess_from_turn", request.guess_from_turn.to_string()),
+    ] {
+        provenance.settings.insert(key.into(), value);
+    }
+    Ok(ContinuationResult {
+        parameter: request.parameter.to_string(),
+        names,
+        points: rows.len(),
+        special_points: rows
+            .iter()
+            .filter(|r| r.special.is_some())
+            .cloned()
+            .collect(),
+        rows,
+        unlocated: branch.unlocated,
+        end: branch.end,
+        period_turns: request.period_turns,
+        wall_time_s: started.elapsed().as_secs_f64(),
+        solver_stats: stats,
+        provenance,
+    })
+}
