@@ -37,8 +37,23 @@ pub struct SiteState {
     pub journal: PointState,
     /// Relative kinematics.
     pub kinematics: ContactKinematics,
-    /// Forces (all zero when free).
+    /// Dry contact forces (all zero when free).
     pub forces: ContactForces,
+    /// The oil film's forces of a lubricated joint, weighted for the transition to contact
+    /// (all zero for a dry joint); the journal's act at its centre, the bearing's at its.
+    pub film: ContactForces,
+}
+
+impl SiteState {
+    /// The normal force the joint transmits, dry contact and film together (N).
+    pub fn total_normal_force(&self) -> f64 {
+        self.forces.normal_force + self.film.normal_force
+    }
+
+    /// The tangential force on the journal along t, friction and film together (N).
+    pub fn total_tangential_force(&self) -> f64 {
+        self.forces.friction_force + self.film.friction_force
+    }
 }
 
 /// All clearance joints of a model (empty for a model without any: then no contact code runs).
@@ -172,6 +187,22 @@ impl ContactSites {
             journal,
             kinematics,
             forces: self.site_forces(k, &kinematics, stored),
+            film: self.site_film(k, &kinematics, &bearing, &journal),
+        }
+    }
+
+    /// The film's forces of joint `k` (zero for a dry joint).
+    #[inline(always)]
+    fn site_film(
+        &self,
+        k: usize,
+        kinematics: &ContactKinematics,
+        bearing: &PointState,
+        journal: &PointState,
+    ) -> ContactForces {
+        match &self.sites[k].contact.lubrication {
+            Some(film) => film.forces(kinematics, journal.omega, bearing.omega),
+            None => ContactForces::default(),
         }
     }
 
@@ -203,11 +234,13 @@ impl ContactSites {
             journal,
             kinematics,
             forces: self.site_forces(k, &kinematics, stored),
+            film: self.site_film(k, &kinematics, &bearing, &journal),
         }
     }
 
-    /// Adds every joint's contact forces and moments to Q (`out`, 3 per body). Returns the
-    /// rate at which the contacts dissipate energy (W, ≥ 0: hysteresis damping and friction),
+    /// Adds every joint's contact forces and moments to Q (`out`, 3 per body), and the film's of
+    /// the lubricated joints. Returns the rate at which the contacts dissipate energy (W, ≥ 0:
+    /// hysteresis damping, friction and the films' viscous dissipation),
     /// computed only when `dissipation` is asked for (0 otherwise). Fails where a penetration
     /// exceeds [`ClearanceJoint::max_penetration`]; `joint_name` names joint k for that message.
     #[allow(clippy::too_many_arguments)] // one state, split the way the DAE stores it
@@ -225,10 +258,30 @@ impl ContactSites {
         let mut dissipated = 0.0;
         for k in 0..self.sites.len() {
             let s = self.site_state(k, q, v, sin_cos, stored[k]);
+            let site = &self.sites[k];
+            if site.contact.lubrication.is_some() {
+                // The film acts at every eccentricity, through the two centres.
+                add(
+                    site.journal.frame,
+                    s.journal.arm,
+                    s.film.on_journal,
+                    s.film.journal_moment,
+                    out,
+                );
+                add(
+                    site.bearing.frame,
+                    s.bearing.arm,
+                    s.film.on_bearing,
+                    s.film.bearing_moment,
+                    out,
+                );
+                if dissipation {
+                    dissipated -= s.film.power;
+                }
+            }
             if s.kinematics.delta <= 0.0 {
                 continue;
             }
-            let site = &self.sites[k];
             let limit = site.contact.max_penetration();
             if s.kinematics.delta > limit {
                 return Err(FormulationError::PenetrationTooDeep {

@@ -698,6 +698,9 @@ impl Outputs for Dae {
             for c in ["ex", "ey", "delta", "fn", "ft"] {
                 names.push(format!("{j}.{c}"));
             }
+            if site.contact.lubrication.is_some() {
+                names.push(format!("{j}.fn_film"));
+            }
         }
         if self.energy {
             names.extend(ENERGY_COLUMNS.iter().map(|c| c.to_string()));
@@ -733,9 +736,12 @@ impl Outputs for Dae {
             out.extend_from_slice(&s.kinematics.e);
             out.extend_from_slice(&[
                 s.kinematics.delta,
-                s.forces.normal_force,
-                s.forces.friction_force,
+                s.total_normal_force(),
+                s.total_tangential_force(),
             ]);
+            if self.contacts.sites()[k].contact.lubrication.is_some() {
+                out.push(s.film.normal_force);
+            }
         }
         if self.energy {
             out.extend_from_slice(&self.energy_columns(y));
