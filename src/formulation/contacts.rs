@@ -318,6 +318,34 @@ impl ContactSites {
         Ok(dissipated)
     }
 
+    /// Adds the film's forces and moments of joint `k` to Q (`out`, 3 per body), evaluating
+    /// only the joint's two bodies (nothing for a dry joint): what the Jacobians difference.
+    pub fn add_film_into(&self, k: usize, q: &[f64], v: &[f64], out: &mut [f64]) {
+        let site = &self.sites[k];
+        if site.contact.lubrication.is_none() {
+            return;
+        }
+        let (bearing, journal) = self.site_centres(k, q, v);
+        let kinematics = site
+            .contact
+            .kinematics(&CentreMotion::from(bearing), &CentreMotion::from(journal));
+        let film = self.site_film(k, &kinematics, &bearing, &journal);
+        add(
+            site.journal.frame,
+            journal.arm,
+            film.on_journal,
+            film.journal_moment,
+            out,
+        );
+        add(
+            site.bearing.frame,
+            bearing.arm,
+            film.on_bearing,
+            film.bearing_moment,
+            out,
+        );
+    }
+
     /// Elastic energy stored in the contacts, Σ ∫₀^δ F_e dδ over the joints in contact (J); for
     /// the power laws K δⁿ⁺¹/(n + 1).
     pub fn elastic_energy(&self, q: &[f64], v: &[f64], sin_cos: &[(f64, f64)]) -> f64 {

@@ -1,0 +1,223 @@
+//! Claim: a lubricated clearance joint (`[joints.lubrication]`, `src/contact/lubrication/`)
+//! reproduces the closed forms of hydrodynamic lubrication when integrated as part of a model,
+//! and its film only ever dissipates energy.
+//!
+//! **Steady load (short bearing).** A journal spinning at ω in a fixed bearing under a constant
+//! load W settles where the film carries the load. Ocvirk's short-bearing solution with the
+//! π-film (Pinkus & Sternlicht 1961, §3.6; Flores et al. 2008, ch. 6) gives, with the
+//! pressure p = 3μ(L²/4 − z²)(−g)/h³ on the half turn −π < θ < 0 (g = eω sin θ), the load
+//! components F_r = μωRL³ε²/(c²(1 − ε²)²) (along the line of centres) and
+//! F_t = πμωRL³ε/(4c²(1 − ε²)^(3/2)) (across it), derived here independently:
+//! ∫_{−π}^0 sin² θ/(1 − ε cos θ)³ dθ = (π/2)(1 − ε²)^(−3/2) and
+//! ∫_{−π}^0 sin θ cos θ/(1 − ε cos θ)³ dθ = −∫_{−1}^1 u/(1 − εu)³ du = −2ε/(1 − ε²)². So
+//!
+//! ```text
+//!     W = (μωRL³/(4c²)) ε/(1 − ε²)² √(π²(1 − ε²) + 16ε²),   tan ψ = π√(1 − ε²)/(4ε)
+//! ```
+//!
+//! (ψ the attitude angle between the load line and the line of centres; the journal sits on
+//! the side the spin carries it to). The steady ε is found from W by bisection in the test.
+//!
+//! **Pure squeeze (short bearing).** A journal without spin, at rest in the centre, pushed
+//! along x by a constant force F0: the π-film is the half turn −π/2 < θ < π/2 facing the
+//! motion and the film's force is F = (μRL³ė/c³) I(ε),
+//! I(ε) = [(1 + 2ε²)(π/2 + asin ε) + 3ε√(1 − ε²)]/(1 − ε²)^(5/2)
+//! (∫ cos² θ/(1 − ε cos θ)³ over that half turn, by Sommerfeld's substitution). Since
+//! ė = c dε/dt, F dt = (μRL³/c²) I(ε) dε, and I = dJ/dε with
+//! J(ε) = ε(π/2 + asin ε)/(1 − ε²)^(3/2) + 1/(1 − ε²) (differentiate to check), the momentum
+//! balance m dv/dt = F0 − F integrates exactly, inertia included:
+//!
+//! ```text
+//!     m v(t) = F0 t − (μRL³/c²) (J(ε(t)) − J(0)).
+//! ```
+//!
+//! (A clearance joint starts with the journal moving with the bearing: the assembly makes the
+//! initial relative velocity zero, hence the push rather than a throw.)
+//!
+//! **Energy.** On the shipped lubricated slider-crank, the work of the motor equals the change
+//! of the mechanical energy plus what the contacts and the film dissipated, and the film's
+//! power (its forces and shear torques on both bodies) is never positive.
+
+mod common;
+
+use common::col;
+use linkdyn::formulation::{Dae, DaeOptions, Formulation};
+use linkdyn::model::Model;
+use linkdyn::solve::{Method, Recorder, SolverOptions, integrate};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+const MU: f64 = 0.05; // Pa·s
+const R: f64 = 0.01; // m
+const L: f64 = 0.01; // m
+const C: f64 = 5e-4; // m
+
+/// A journal body "shaft" centred in a bearing on the ground, spinning at `omega`, under a
+/// constant force `force` (N); mass `mass`, a large inertia so that the film's shear torque
+/// hardly slows the spin.
+fn journal_model(omega: f64, force: [f64; 2], mass: f64) -> Model {
+    let text = format!(
+        r#"
+[model]
+name = "lubricated_journal"
+[settings]
+gravity = [0.0, 0.0]
+[ground]
+points = {{ O = [0.0, 0.0] }}
+[[bodies]]
+name = "shaft"
+mass = {mass:e}
+inertia = 1.0
+points = {{ C = [0.0, 0.0] }}
+initial = {{ x = 0.0, y = 0.0, phi = 0.0, omega = {omega:e} }}
+[[joints]]
+name = "J"
+type = "clearance"
+bearing = "ground"
+bearing_point = "O"
+journal = "shaft"
+journal_point = "C"
+clearance = {C:e}
+journal_radius = {R:e}
+length = {L:e}
+[joints.lubrication]
+model = "short"
+viscosity = {MU:e}
+[[forces]]
+name = "load"
+type = "force"
+body = "shaft"
+point = "C"
+force = [{fx:e}, {fy:e}]
+"#,
+        fx = force[0],
+        fy = force[1]
+    );
+    linkdyn::model::load_str(&text, "lubricated_journal.toml", &[])
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run(model: &Model, t_end: f64, dt: f64, rtol: f64, energy: bool) -> Recorder {
+    let options = DaeOptions {
+        energy,
+        ..DaeOptions::default()
+    };
+    let mut dae = Dae::new(model, &options).unwrap_or_else(|e| panic!("{e}"));
+    let solver = SolverOptions::default()
+        .method(Method::Dop853)
+        .rtol(rtol)
+        .atol(rtol * 1e-6)
+        .build()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let y0 = dae.initial_state();
+    let mut rec = Recorder::new(&dae);
+    integrate(&mut dae, 0.0, &y0, t_end, dt, &solver, &mut rec).unwrap_or_else(|e| panic!("{e}"));
+    rec
+}
+
+/// Ocvirk's steady load W(ε) (N) at spin ω (module documentation).
+fn steady_load(eps: f64, omega: f64) -> f64 {
+    let m = 1.0 - eps * eps;
+    MU * omega * R * L.powi(3) / (4.0 * C * C) * eps / (m * m)
+        * (PI * PI * m + 16.0 * eps * eps).sqrt()
+}
+
+/// The ε that carries `load` at spin ω, by bisection (W grows monotonically with ε).
+fn steady_eccentricity(load: f64, omega: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 1.0 - 1e-12);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if steady_load(mid, omega) < load {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[test]
+fn spinning_journal_reaches_ocvirk_eccentricity_and_attitude() {
+    // W = 1 N on a 1 g journal: the mass parameter m c ω²/W = 0.02 keeps the journal far
+    // from oil whirl, and the film settles it within ~1e-3 s.
+    let (omega, load) = (200.0, 1.0);
+    // It is settled to 1e-9 by t = 0.1 s.
+    let rec = run(
+        &journal_model(omega, [0.0, -load], 1e-3),
+        0.3,
+        1e-2,
+        1e-11,
+        false,
+    );
+    let last = rec.t.len() - 1;
+    let (ex, ey) = (col(&rec, "J.ex")[last], col(&rec, "J.ey")[last]);
+    // The spin at the end (the shear torque of ~2e-3 N·m slows it by 1e-4 rad/s over the run).
+    let spin = col(&rec, "shaft.omega")[last];
+    let eps = ex.hypot(ey) / C;
+    let expected = steady_eccentricity(load, spin);
+    assert!(
+        (eps / expected - 1.0).abs() < 1e-6,
+        "steady ε = {eps}, Ocvirk's {expected} (W = {load} N, ω = {spin} rad/s)"
+    );
+    // Attitude: angle between the load line (−y) and e; a counter-clockwise spin carries the
+    // journal to the +x side.
+    let psi = (ex / -ey).atan();
+    let psi_expected = (PI * (1.0 - expected * expected).sqrt() / (4.0 * expected)).atan();
+    assert!(ex > 0.0 && ey < 0.0, "journal at ({ex}, {ey})");
+    assert!(
+        (psi / psi_expected - 1.0).abs() < 1e-6,
+        "attitude ψ = {psi} rad, closed form {psi_expected} rad (ε = {expected})"
+    );
+    // The film carries the whole load: J.fn is the film's normal force there, and the
+    // total force balances W.
+    let (f_n, f_t) = (col(&rec, "J.fn")[last], col(&rec, "J.ft")[last]);
+    assert_eq!(
+        f_n,
+        col(&rec, "J.fn_film")[last],
+        "no dry contact at ε = {eps}"
+    );
+    assert!(
+        (f_n.hypot(f_t) / load - 1.0).abs() < 1e-6,
+        "film force {} N against the load {load} N",
+        f_n.hypot(f_t)
+    );
+}
+
+/// J(ε) of the module documentation.
+fn squeeze_primitive(eps: f64) -> f64 {
+    let m = 1.0 - eps * eps;
+    eps * (FRAC_PI_2 + eps.asin()) / m.powf(1.5) + 1.0 / m
+}
+
+#[test]
+fn pure_squeeze_follows_the_closed_form() {
+    // A 10 g journal pushed along +x by 1 N from the centre: ε reaches ~0.8 by t = 0.022 s,
+    // and m v is ~1 % of the impulse F0 t, so inertia takes part.
+    let (mass, push, t_end) = (0.01, 1.0, 0.022);
+    let rec = run(
+        &journal_model(0.0, [push, 0.0], mass),
+        t_end,
+        2e-4,
+        1e-11,
+        false,
+    );
+    let (ex, ey, vx) = (col(&rec, "J.ex"), col(&rec, "J.ey"), col(&rec, "shaft.vx"));
+    let damping = MU * R * L.powi(3) / (C * C); // μRL³/c² (N·s)
+    let mut worst: f64 = 0.0;
+    for i in 0..rec.t.len() {
+        assert!(ey[i].abs() < 1e-12 * C, "left the x-axis: e_y = {}", ey[i]);
+        // m v = F0 t − (μRL³/c²)(J(ε) − J(0)), the momentum balance integrated exactly.
+        let momentum =
+            push * rec.t[i] - damping * (squeeze_primitive(ex[i] / C) - squeeze_primitive(0.0));
+        worst = worst.max((mass * vx[i] - momentum).abs() / (push * t_end));
+    }
+    assert!(
+        worst < 1e-6,
+        "momentum off the closed form by {worst:e} of the impulse F0 t_end"
+    );
+    let eps_end = ex[ex.len() - 1] / C;
+    let inertia = mass * vx[vx.len() - 1] / (push * t_end);
+    assert!(
+        eps_end > 0.7 && eps_end < 0.9 && inertia > 1e-3,
+        "ε = {eps_end}, m v/(F0 t) = {inertia}: not the case meant"
+    );
+}
