@@ -367,3 +367,66 @@ fn shipped_slider_crank_in_every_formulation_and_method() {
         "{message}"
     );
 }
+
+/// Bad `[joints.lubrication]` settings are refused with the file, line and column, the field
+/// and what was expected; a missing bearing `length` with the reason it is needed.
+#[test]
+fn bad_lubrication_settings_are_refused_with_the_reason() {
+    const FILE: &str = "models/slider_crank_lubricated.toml";
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(FILE);
+    let refusal = |set: &str| match linkdyn::model::load(&path, &[set.to_string()]) {
+        Ok(_) => panic!("--set {set} was accepted"),
+        Err(e) => e.to_string(),
+    };
+    let file = path.display().to_string();
+    let cases = [
+        (
+            "joints.A.lubrication.model=medium",
+            format!(
+                "{file}:66:9: joints.A.lubrication.model: unknown film model \"medium\"; expected one of short, long (value from --set joints.A.lubrication.model=medium)"
+            ),
+        ),
+        (
+            "joints.A.lubrication.viscosity=0",
+            format!(
+                "{file}:67:13: joints.A.lubrication.viscosity: expected a positive viscosity (Pa·s), found 0 (value from --set joints.A.lubrication.viscosity=0)"
+            ),
+        ),
+        (
+            "joints.A.lubrication.viscosity=-0.1",
+            format!(
+                "{file}:67:13: joints.A.lubrication.viscosity: expected a positive viscosity (Pa·s), found -0.1 (value from --set joints.A.lubrication.viscosity=-0.1)"
+            ),
+        ),
+        (
+            "joints.A.lubrication.contact_film_thickness=3e-4",
+            format!(
+                "{file}: joints.A.lubrication.contact_film_thickness: expected a contact film thickness of at most half the radial clearance (2.5e-4 m), found 3e-4 m (value from --set joints.A.lubrication.contact_film_thickness=3e-4)"
+            ),
+        ),
+        (
+            "joints.A.initial_eccentricity=[4.96e-4,0]",
+            format!(
+                "{file}:63:24: joints.A.initial_eccentricity: initial eccentricity |e| = 4.960000e-4 m leaves a film thinner than contact_film_thickness = 5.000000e-6 m; expected |e| < c − contact_film_thickness = 4.950000e-4 m, since the dry contact that begins there would have no impact velocity to scale its damping (value from --set joints.A.initial_eccentricity=[4.96e-4,0])"
+            ),
+        ),
+    ];
+    for (set, expected) in cases {
+        assert_eq!(refusal(set), expected, "--set {set}");
+    }
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{e}"));
+    let no_length = text.replacen(
+        "length = 0.02                       # bearing length L (m)\n",
+        "",
+        1,
+    );
+    assert_ne!(no_length, text, "model edit failed");
+    let message = match linkdyn::model::load_str(&no_length, "no_length.toml", &[]) {
+        Ok(_) => panic!("a lubricated joint without length was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert_eq!(
+        message,
+        "no_length.toml:64:1: joints.A.lubrication: a lubricated joint needs the bearing's axial length, which sets the film's load capacity (∝ L³ for the short bearing, ∝ L for the long): expected a field `length` (m, > 0) on clearance joint \"A\", e.g. length = 0.02"
+    );
+}
