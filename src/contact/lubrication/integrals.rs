@@ -147,7 +147,8 @@ pub(crate) mod tests {
             ] {
                 let i = film_integrals(eps, a, b);
                 let h3 = |t: f64| (1.0 - eps * t.cos()).powi(3);
-                let cases: [(&str, f64, &dyn Fn(f64) -> f64); 6] = [
+                type Integrand<'a> = &'a dyn Fn(f64) -> f64;
+                let cases: [(&str, f64, Integrand); 6] = [
                     ("1", i.one, &|t| 1.0 / h3(t)),
                     ("cos", i.cos, &|t| t.cos() / h3(t)),
                     ("sin", i.sin, &|t| t.sin() / h3(t)),
