@@ -835,6 +835,7 @@ mod tests {
             ("MaterialFile", fields_of::<file::MaterialFile>()),
             ("ContactFile", fields_of::<file::ContactFile>()),
             ("FrictionFile", fields_of::<file::FrictionFile>()),
+            ("LubricationFile", fields_of::<file::LubricationFile>()),
             ("DriverFile", fields_of::<file::DriverFile>()),
             ("ForceFile", fields_of::<file::ForceFile>()),
             ("TableFile", fields_of::<file::TableFile>()),
