@@ -257,61 +257,64 @@ impl ContactSites {
     ) -> Result<f64, FormulationError> {
         let mut dissipated = 0.0;
         for k in 0..self.sites.len() {
-            let s = self.site_state(k, q, v, sin_cos, stored[k]);
             let site = &self.sites[k];
-            if site.contact.lubrication.is_some() {
-                // The film acts at every eccentricity, through the two centres.
+            let (bearing, journal, kinematics) = self.site_kinematics(k, q, v, sin_cos);
+            if let Some(film) = &site.contact.lubrication {
+                // The film acts at every eccentricity, through the two centres. (Apart from
+                // the dry path: a dry joint's evaluation stays as it was, inlined.)
+                let f = film.forces(&kinematics, journal.omega, bearing.omega);
                 add(
                     site.journal.frame,
-                    s.journal.arm,
-                    s.film.on_journal,
-                    s.film.journal_moment,
+                    journal.arm,
+                    f.on_journal,
+                    f.journal_moment,
                     out,
                 );
                 add(
                     site.bearing.frame,
-                    s.bearing.arm,
-                    s.film.on_bearing,
-                    s.film.bearing_moment,
+                    bearing.arm,
+                    f.on_bearing,
+                    f.bearing_moment,
                     out,
                 );
                 if dissipation {
-                    dissipated -= s.film.power;
+                    dissipated -= f.power;
                 }
             }
-            if s.kinematics.delta <= 0.0 {
+            if kinematics.delta <= 0.0 {
                 continue;
             }
             let limit = site.contact.max_penetration();
-            if s.kinematics.delta > limit {
+            if kinematics.delta > limit {
                 return Err(FormulationError::PenetrationTooDeep {
                     t,
                     joint: joint_name(site.joint),
-                    penetration: s.kinematics.delta,
+                    penetration: kinematics.delta,
                     limit,
                 });
             }
+            let forces = self.site_forces(k, &kinematics, stored[k]);
             if dissipation {
                 // Power of the contact forces −F_N δ̇ + F_T v_t minus its elastic part −F_e δ̇.
-                let elastic = site.contact.law.elastic_force(s.kinematics.delta);
-                dissipated -= s.forces.power + elastic * s.kinematics.delta_dot;
+                let elastic = site.contact.law.elastic_force(kinematics.delta);
+                dissipated -= forces.power + elastic * kinematics.delta_dot;
             }
-            if s.forces.normal_force == 0.0 {
+            if forces.normal_force == 0.0 {
                 continue;
             }
             // Force at the contact point = force at the centre + its moment about the centre.
             add(
                 site.journal.frame,
-                s.journal.arm,
-                s.forces.on_journal,
-                s.forces.journal_moment,
+                journal.arm,
+                forces.on_journal,
+                forces.journal_moment,
                 out,
             );
             add(
                 site.bearing.frame,
-                s.bearing.arm,
-                s.forces.on_bearing,
-                s.forces.bearing_moment,
+                bearing.arm,
+                forces.on_bearing,
+                forces.bearing_moment,
                 out,
             );
         }
