@@ -42,13 +42,25 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     println!("joints: {}", model.joints.len());
     for j in &model.joints {
         let extra = match &j.kind {
-            JointKind::Clearance(c) => format!(
-                " (bearing on {}, journal on {}, c = {} m, R_J = {} m)",
-                model.frame_name(j.a.frame),
-                model.frame_name(j.b.frame),
-                format_for_people(c.clearance),
-                format_for_people(c.journal_radius)
-            ),
+            JointKind::Clearance(c) => {
+                let film = match &c.lubrication {
+                    Some(l) => format!(
+                        ", lubricated: {} bearing, μ = {} Pa·s, L = {} m, contact below a film of {} m",
+                        l.model.name(),
+                        format_for_people(l.viscosity),
+                        format_for_people(c.length.unwrap_or(0.0)),
+                        format_for_people(l.contact_film_thickness)
+                    ),
+                    None => String::new(),
+                };
+                format!(
+                    " (bearing on {}, journal on {}, c = {} m, R_J = {} m{film})",
+                    model.frame_name(j.a.frame),
+                    model.frame_name(j.b.frame),
+                    format_for_people(c.clearance),
+                    format_for_people(c.journal_radius)
+                )
+            }
             JointKind::PrismaticClearance(p) => format!(
                 " (guide on {}, slider on {}, c = {} m, L = {} m, w = {} m, K = {} N/m^{})",
                 model.frame_name(j.a.frame),

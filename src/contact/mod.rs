@@ -28,6 +28,9 @@
 //! 8. **Grazing guard** ([`grazing`]): while free, the step is limited so that only grazes
 //!    shallower than 1e-3 c can begin and end inside one step.
 //!
+//! 9. **Lubrication** ([`lubrication`]): an oil film (short or long bearing) whose force acts
+//!    at any eccentricity and hands over to the dry contact law where the film gets thin.
+//!
 //! [`ClearanceJoint`] bundles a joint's law, friction and radii behind two calls,
 //! [`ClearanceJoint::kinematics`] and [`ClearanceJoint::forces`].
 //!
@@ -63,6 +66,7 @@ pub mod grazing;
 pub mod kinematics;
 pub mod kinks;
 pub mod laws;
+pub mod lubrication;
 pub mod stiffness;
 
 pub use events::{ContactMemory, ContactStats, impact_velocity};
@@ -70,6 +74,7 @@ pub use friction::friction_force;
 pub use grazing::free_flight_max_step;
 pub use kinematics::{CentreMotion, ContactForces, ContactKinematics, clearance_kinematics};
 pub use laws::ContactLaw;
+pub use lubrication::Lubrication;
 pub use stiffness::generalised_stiffness;
 
 use crate::model::{ClearanceSpec, FrictionSpec};
@@ -84,18 +89,24 @@ pub struct ClearanceJoint {
     pub friction: FrictionSpec,
     /// Journal radius R_J (m).
     pub journal_radius: f64,
-    /// Radial clearance c = R_B − R_J (m).
+    /// Radial clearance c = R_B − R_J (m) at which the dry contact begins: the bearing's, or
+    /// for a lubricated joint c − h_c, where the film thins to the asperities
+    /// ([`lubrication`]).
     pub clearance: f64,
+    /// The oil film of a lubricated joint.
+    pub lubrication: Option<Lubrication>,
 }
 
 impl ClearanceJoint {
     /// The contact model of a clearance joint ([`ContactLaw::from_spec`] for K).
     pub fn from_spec(spec: &ClearanceSpec) -> Self {
+        let lubrication = Lubrication::from_spec(spec);
         ClearanceJoint {
             law: ContactLaw::from_spec(spec),
             friction: spec.friction,
             journal_radius: spec.journal_radius,
-            clearance: spec.clearance,
+            clearance: lubrication.map_or(spec.clearance, |l| l.contact_clearance()),
+            lubrication,
         }
     }
 
@@ -187,6 +198,7 @@ mod tests {
             exponent: 1.5,
             friction,
             initial_eccentricity: [0.0, 0.0],
+            lubrication: None,
         })
     }
 

@@ -43,8 +43,23 @@ pub struct SiteState {
     pub journal: PointState,
     /// Relative kinematics.
     pub kinematics: ContactKinematics,
-    /// Forces (all zero when free).
+    /// Dry contact forces (all zero when free).
     pub forces: ContactForces,
+    /// The oil film's forces of a lubricated joint, weighted for the transition to contact
+    /// (all zero for a dry joint); the journal's act at its centre, the bearing's at its.
+    pub film: ContactForces,
+}
+
+impl SiteState {
+    /// The normal force the joint transmits, dry contact and film together (N).
+    pub fn total_normal_force(&self) -> f64 {
+        self.forces.normal_force + self.film.normal_force
+    }
+
+    /// The tangential force on the journal along t, friction and film together (N).
+    pub fn total_tangential_force(&self) -> f64 {
+        self.forces.friction_force + self.film.friction_force
+    }
 }
 
 /// All clearance joints of a model (empty for a model without any: then no contact code runs).
@@ -216,6 +231,22 @@ impl ContactSites {
             journal,
             kinematics,
             forces: self.site_forces(k, &kinematics, stored),
+            film: self.site_film(k, &kinematics, &bearing, &journal),
+        }
+    }
+
+    /// The film's forces of joint `k` (zero for a dry joint).
+    #[inline(always)]
+    fn site_film(
+        &self,
+        k: usize,
+        kinematics: &ContactKinematics,
+        bearing: &PointState,
+        journal: &PointState,
+    ) -> ContactForces {
+        match &self.sites[k].contact.lubrication {
+            Some(film) => film.forces(kinematics, journal.omega, bearing.omega),
+            None => ContactForces::default(),
         }
     }
 
@@ -263,11 +294,13 @@ impl ContactSites {
             journal,
             kinematics,
             forces: self.site_forces(k, &kinematics, stored),
+            film: self.site_film(k, &kinematics, &bearing, &journal),
         }
     }
 
-    /// Adds every joint's contact forces and moments to Q (`out`, 3 per body). Returns the
-    /// rate at which the contacts dissipate energy (W, ≥ 0: hysteresis damping and friction),
+    /// Adds every joint's contact forces and moments to Q (`out`, 3 per body), and the film's of
+    /// the lubricated joints. Returns the rate at which the contacts dissipate energy (W, ≥ 0:
+    /// hysteresis damping, friction and the films' viscous dissipation),
     /// computed only when `dissipation` is asked for (0 otherwise). Fails where a penetration
     /// exceeds [`ClearanceJoint::max_penetration`]; `joint_name` names joint k for that message.
     #[allow(clippy::too_many_arguments)] // one state, split the way the DAE stores it
@@ -284,41 +317,64 @@ impl ContactSites {
     ) -> Result<f64, FormulationError> {
         let mut dissipated = 0.0;
         for k in 0..self.sites.len() {
-            let s = self.joint_state(k, q, v, sin_cos, stored[k]);
-            if s.kinematics.delta <= 0.0 {
+            let site = &self.sites[k];
+            let (bearing, journal, kinematics) = self.site_kinematics(k, q, v, sin_cos);
+            if let Some(film) = &site.contact.lubrication {
+                // The film acts at every eccentricity, through the two centres. (Apart from
+                // the dry path: a dry joint's evaluation stays as it was, inlined.)
+                let f = film.forces(&kinematics, journal.omega, bearing.omega);
+                add(
+                    site.journal.frame,
+                    journal.arm,
+                    f.on_journal,
+                    f.journal_moment,
+                    out,
+                );
+                add(
+                    site.bearing.frame,
+                    bearing.arm,
+                    f.on_bearing,
+                    f.bearing_moment,
+                    out,
+                );
+                if dissipation {
+                    dissipated -= f.power;
+                }
+            }
+            if kinematics.delta <= 0.0 {
                 continue;
             }
-            let site = &self.sites[k];
             let limit = site.contact.max_penetration();
-            if s.kinematics.delta > limit {
+            if kinematics.delta > limit {
                 return Err(FormulationError::PenetrationTooDeep {
                     t,
                     joint: joint_name(site.joint),
-                    penetration: s.kinematics.delta,
+                    penetration: kinematics.delta,
                     limit,
                 });
             }
+            let forces = self.site_forces(k, &kinematics, stored[k]);
             if dissipation {
                 // Power of the contact forces −F_N δ̇ + F_T v_t minus its elastic part −F_e δ̇.
-                let elastic = site.contact.law.elastic_force(s.kinematics.delta);
-                dissipated -= s.forces.power + elastic * s.kinematics.delta_dot;
+                let elastic = site.contact.law.elastic_force(kinematics.delta);
+                dissipated -= forces.power + elastic * kinematics.delta_dot;
             }
-            if s.forces.normal_force == 0.0 {
+            if forces.normal_force == 0.0 {
                 continue;
             }
             // Force at the contact point = force at the centre + its moment about the centre.
             add(
                 site.journal.frame,
-                s.journal.arm,
-                s.forces.on_journal,
-                s.forces.journal_moment,
+                journal.arm,
+                forces.on_journal,
+                forces.journal_moment,
                 out,
             );
             add(
                 site.bearing.frame,
-                s.bearing.arm,
-                s.forces.on_bearing,
-                s.forces.bearing_moment,
+                bearing.arm,
+                forces.on_bearing,
+                forces.bearing_moment,
                 out,
             );
         }
@@ -383,6 +439,34 @@ impl ContactSites {
             add(c.guide, s.bearing.arm, s.forces.on_bearing, 0.0, out);
         }
         Ok(dissipated)
+    }
+
+    /// Adds the film's forces and moments of joint `k` to Q (`out`, 3 per body), evaluating
+    /// only the joint's two bodies (nothing for a dry joint): what the Jacobians difference.
+    pub fn add_film_into(&self, k: usize, q: &[f64], v: &[f64], out: &mut [f64]) {
+        let site = &self.sites[k];
+        if site.contact.lubrication.is_none() {
+            return;
+        }
+        let (bearing, journal) = self.site_centres(k, q, v);
+        let kinematics = site
+            .contact
+            .kinematics(&CentreMotion::from(bearing), &CentreMotion::from(journal));
+        let film = self.site_film(k, &kinematics, &bearing, &journal);
+        add(
+            site.journal.frame,
+            journal.arm,
+            film.on_journal,
+            film.journal_moment,
+            out,
+        );
+        add(
+            site.bearing.frame,
+            bearing.arm,
+            film.on_bearing,
+            film.bearing_moment,
+            out,
+        );
     }
 
     /// Elastic energy stored in the contacts, Σ ∫₀^δ F_e dδ over the joints in contact (J); for

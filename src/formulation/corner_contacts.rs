@@ -72,6 +72,8 @@ impl CornerSite {
             friction: spec.friction,
             journal_radius: 0.0,
             clearance,
+            // No oil film in a guide (a lubricated guide is not modelled).
+            lubrication: None,
         };
         // The slider's long direction in its own frame: the guide axis turned by −angle.
         let long = rotate((-angle).sin_cos(), axis);
@@ -167,6 +169,7 @@ impl CornerSite {
             journal: corner,
             kinematics,
             forces,
+            film: ContactForces::default(),
         }
     }
 

@@ -709,6 +709,9 @@ impl Outputs for Dae {
             for c in ["ex", "ey", "delta", "fn", "ft"] {
                 names.push(format!("{j}.{c}"));
             }
+            if site.contact.lubrication.is_some() {
+                names.push(format!("{j}.fn_film"));
+            }
         }
         // Corners of prismatic-clearance joints: `J.c1.delta J.c1.fn J.c1.ft` ….
         for corner in self.contacts.corners() {
@@ -753,9 +756,14 @@ impl Outputs for Dae {
             }
             out.extend_from_slice(&[
                 s.kinematics.delta,
-                s.forces.normal_force,
-                s.forces.friction_force,
+                s.total_normal_force(),
+                s.total_tangential_force(),
             ]);
+            // Sites after the revolute joints are corners, which carry no film.
+            let lubricated = self.contacts.sites().get(k);
+            if lubricated.is_some_and(|site| site.contact.lubrication.is_some()) {
+                out.push(s.film.normal_force);
+            }
         }
         if self.energy {
             out.extend_from_slice(&self.energy_columns(y));

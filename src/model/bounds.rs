@@ -83,6 +83,14 @@ pub const MAX_BEARING_LENGTH: f64 = 10.0;
 /// journal's radius is not a joint with clearance.)
 pub const MIN_CLEARANCE: f64 = 1e-9;
 
+/// Smallest oil viscosity μ (Pa·s) of `[joints.lubrication]`: 1e-6 Pa·s, below any liquid
+/// (water 1e-3, light oils 1e-2) and near gases (air 1.8e-5), whose film is no lubricant.
+pub const MIN_VISCOSITY: f64 = 1e-6;
+
+/// Largest oil viscosity μ (Pa·s): 1e4 Pa·s, beyond the heaviest greases and bitumens
+/// (about 1e3); heavier is a solid for a bearing.
+pub const MAX_VISCOSITY: f64 = 1e4;
+
 /// Smallest Young's modulus E (Pa): soft rubber and silicone, about 1 MPa.
 pub const MIN_YOUNGS_MODULUS: f64 = 1e6;
 

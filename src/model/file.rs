@@ -307,6 +307,8 @@ pub struct JointFile {
     pub contact: Option<Spanned<ContactFile>>,
     /// Clearance: `[joints.friction]`.
     pub friction: Option<Spanned<FrictionFile>>,
+    /// Clearance: `[joints.lubrication]`, an oil film in the bearing.
+    pub lubrication: Option<Spanned<LubricationFile>>,
     /// Clearance: `true` runs the joint as an ideal revolute joint (see `model::ideal`).
     pub ideal: Option<Spanned<bool>>,
     /// Prismatic clearance: slider length L (m).
@@ -343,6 +345,18 @@ pub struct ContactFile {
     pub restitution: Option<Num>,
     /// Exponent n (default 1.5).
     pub exponent: Option<Num>,
+}
+
+/// `[joints.lubrication]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LubricationFile {
+    /// "short" | "long" (required).
+    pub model: Option<Name>,
+    /// Dynamic viscosity μ (Pa·s, required, > 0).
+    pub viscosity: Option<Num>,
+    /// Film thickness at which the dry contact begins (m, default c/100).
+    pub contact_film_thickness: Option<Num>,
 }
 
 /// `[joints.friction]`.

@@ -18,6 +18,9 @@ pub const CONTACT: &[(&str, &[&str])] = &[
 /// Hysteresis factors a line-contact law can take as `damping`.
 pub const DAMPING: &[&str] = &["lankarani-nikravesh", "hunt-crossley", "flores", "none"];
 
+/// Film models of `[joints.lubrication]`.
+pub const FILM_MODELS: &[&str] = &["short", "long"];
+
 /// Friction laws and the fields of `[joints.friction]` each takes.
 pub const FRICTION: &[(&str, &[&str])] = &[
     ("ambrosio", &["law", "coefficient", "v0", "v1"]),

@@ -67,6 +67,7 @@ const CONTACT_LAWS: &[&str] = &[
 ];
 const DAMPINGS: &[&str] = &["lankarani-nikravesh", "hunt-crossley", "flores", "none"];
 const FRICTION_LAWS: &[&str] = &["ambrosio", "ambrosio-as-printed", "none"];
+const FILM_MODELS: &[&str] = &["short", "long"];
 
 /// The root: the whole model file.
 const ROOT: &str = "ModelFile";
@@ -338,7 +339,7 @@ const DEFS: &[Def] = &[
                 "length",
                 Num,
                 OPT,
-                "Clearance: axial length L of the bearing (m); needed by the line-contact laws johnson and liu.",
+                "Clearance: axial length L of the bearing (m); needed by the line-contact laws johnson and liu and by [joints.lubrication].",
             ),
             Field(
                 "youngs_modulus",
@@ -387,6 +388,12 @@ const DEFS: &[Def] = &[
                 Table("FrictionFile"),
                 OPT,
                 "Clearance, prismatic-clearance: the friction law.",
+            ),
+            Field(
+                "lubrication",
+                Table("LubricationFile"),
+                OPT,
+                "Clearance: an oil film in the bearing (hydrodynamic journal bearing); needs the joint's length.",
             ),
             Field(
                 "ideal",
@@ -480,6 +487,30 @@ const DEFS: &[Def] = &[
                 Num,
                 OPT,
                 "Tangential velocity above which friction is fully on (m/s), default 1e-3.",
+            ),
+        ],
+    ),
+    Def(
+        "LubricationFile",
+        "[joints.lubrication]",
+        &[
+            Field(
+                "model",
+                OneOf(FILM_MODELS),
+                REQ,
+                "Film model: short (Ocvirk's infinitely short bearing) or long (Sommerfeld's infinitely long bearing), both with the π-film.",
+            ),
+            Field(
+                "viscosity",
+                Num,
+                REQ,
+                "Dynamic viscosity of the oil μ (Pa·s), > 0.",
+            ),
+            Field(
+                "contact_film_thickness",
+                Num,
+                OPT,
+                "Film thickness at which the dry contact begins (m), at most c/2, default c/100.",
             ),
         ],
     ),
@@ -828,6 +859,7 @@ mod tests {
             ("MaterialFile", fields_of::<file::MaterialFile>()),
             ("ContactFile", fields_of::<file::ContactFile>()),
             ("FrictionFile", fields_of::<file::FrictionFile>()),
+            ("LubricationFile", fields_of::<file::LubricationFile>()),
             ("DriverFile", fields_of::<file::DriverFile>()),
             ("ForceFile", fields_of::<file::ForceFile>()),
             ("TableFile", fields_of::<file::TableFile>()),
@@ -913,5 +945,6 @@ mod tests {
         assert_eq!(super::CONTACT_LAWS, laws::names(laws::CONTACT).as_slice());
         assert_eq!(super::DAMPINGS, laws::DAMPING);
         assert_eq!(super::FRICTION_LAWS, laws::names(laws::FRICTION).as_slice());
+        assert_eq!(super::FILM_MODELS, laws::FILM_MODELS);
     }
 }

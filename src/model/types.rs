@@ -92,6 +92,39 @@ pub enum Shape {
     },
 }
 
+/// Which limit of Reynolds' equation a lubricated clearance joint's film follows (see
+/// `contact::lubrication`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FilmModel {
+    /// The infinitely short bearing (Ocvirk; Pinkus & Sternlicht), π-film.
+    Short,
+    /// The infinitely long bearing (Sommerfeld), Gümbel's π-film.
+    Long,
+}
+
+impl FilmModel {
+    /// The name as written in model files.
+    pub fn name(self) -> &'static str {
+        match self {
+            FilmModel::Short => "short",
+            FilmModel::Long => "long",
+        }
+    }
+}
+
+/// `[joints.lubrication]` of a clearance joint: an oil film in the bearing (the bearing length
+/// is the joint's `length`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LubricationSpec {
+    /// Short or long bearing.
+    pub model: FilmModel,
+    /// Dynamic viscosity μ (Pa·s), > 0.
+    pub viscosity: f64,
+    /// Film thickness h_c (m) at which the dry contact begins, in (0, c/2].
+    pub contact_film_thickness: f64,
+}
+
 /// Contact-force law of a clearance joint (see `contact::laws`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -209,6 +242,9 @@ pub struct ClearanceSpec {
     pub friction: FrictionSpec,
     /// Initial eccentricity e = journal − bearing centre (m, global frame).
     pub initial_eccentricity: [f64; 2],
+    /// Oil film, if the joint is lubricated.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lubrication: Option<LubricationSpec>,
 }
 
 /// Data of a translational (prismatic) joint with clearance: a rectangular slider of length L

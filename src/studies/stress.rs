@@ -1,6 +1,7 @@
 //! Stress table (docs/numerics.md, "Numerics under stress"): stiff and extreme cases of the reference four-bar
-//! (`farahan2016.toml`), the two-joint slider-crank (`slider_crank_clearance.toml`) and the
-//! slider-crank with clearance in the slider's guide (`slider_crank_prismatic_clearance.toml`), each run
+//! (`farahan2016.toml`), the two-joint slider-crank (`slider_crank_clearance.toml`), its
+//! lubricated twin (`slider_crank_lubricated.toml`) and the slider-crank with clearance in the
+//! slider's guide (`slider_crank_prismatic_clearance.toml`), each run
 //! on every formulation the model supports × every method of [`Method::ALL`] × a list of
 //! tolerances, with a wall-clock and a step budget per run and a [`Verdict`] per cell.
 //!
@@ -38,6 +39,8 @@ pub const FOURBAR: &str = "farahan2016.toml";
 pub const SLIDER_CRANK: &str = "slider_crank_clearance.toml";
 /// The slider-crank with clearance in the slider's guide (DAE only).
 pub const SLIDER_GUIDE: &str = "slider_crank_prismatic_clearance.toml";
+/// The slider-crank with its crank pin lubricated (DAE only).
+pub const LUBRICATED: &str = "slider_crank_lubricated.toml";
 
 /// What became of one cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
@@ -381,6 +384,15 @@ pub fn cases(quick: bool) -> Vec<StressCase> {
         ("friction", "cf=1.0", "joints.rail.friction.coefficient=1.0"),
     ] {
         all.push((false, case(axis, name, SLIDER_GUIDE, &[set])));
+    }
+    // The lubricated slider-crank (docs/lubrication.md): its reference, the short film in place
+    // of the long one, and the high speed, where the film is thinnest.
+    for (name, sets) in [
+        ("reference", &[][..]),
+        ("short film", &["joints.A.lubrication.model=short"][..]),
+        ("rpm=3500", &["drivers.motor.speed_rpm=3500"][..]),
+    ] {
+        all.push((false, case("lubrication", name, LUBRICATED, sets)));
     }
     let mut long = case("duration", "1000 turns", fb, &[]);
     long.turns = 1000.0;

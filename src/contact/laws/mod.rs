@@ -509,6 +509,7 @@ mod tests {
             exponent: 1.5,
             friction: FrictionSpec::None,
             initial_eccentricity: [0.0, 0.0],
+            lubrication: None,
         }
     }
 

@@ -293,6 +293,11 @@ impl Dae {
             let stored = y[2 * n + k];
             let s = self.contacts.site_state(k, q, v, sin_cos, stored);
             let kin = &s.kinematics;
+            if let Some(film) = &site.contact.lubrication {
+                // The film at every eccentricity, by central differences of its own part of Q.
+                let gap = (film.clearance - kin.distance).max(0.5 * film.contact_film_thickness);
+                self.film_force_derivatives(k, y, gap, add);
+            }
             if !(kin.delta > 0.0 && kin.distance > 0.0) {
                 continue;
             }
@@ -397,6 +402,63 @@ impl Dae {
         let first = self.contacts.sites().len();
         for (i, corner) in self.contacts.corners().iter().enumerate() {
             corner_force_derivatives(corner, y, n, 2 * n + first + i, add);
+        }
+    }
+
+    /// Hands ∂Q/∂(q, q̇) of the film of lubricated joint `k` to `add(row, column, value)`, by
+    /// central differences over the coordinates and speeds of its two bodies. The film varies
+    /// on the scale of its thickness `gap` (m), far below the coordinates' own: positions move
+    /// by [`FORCE_REL`]·gap, angles by that over the centre's arm, speeds by
+    /// [`FORCE_REL`]·max(|y_j|, 1) (the force is homogeneous of degree one in the speeds).
+    fn film_force_derivatives(
+        &self,
+        k: usize,
+        y: &[f64],
+        gap: f64,
+        add: &mut impl FnMut(usize, usize, f64),
+    ) {
+        let n = self.n_coordinates();
+        let site = &self.contacts.sites()[k];
+        let mut bodies: Vec<(usize, f64)> = Vec::with_capacity(2);
+        for anchor in [&site.journal, &site.bearing] {
+            if let Frame::Body(id) = anchor.frame
+                && !bodies.iter().any(|(b, _)| *b == id.0)
+            {
+                let arm = anchor.local[0].hypot(anchor.local[1]);
+                bodies.push((id.0, arm));
+            }
+        }
+        let mut state = y[..2 * n].to_vec();
+        let (mut plus, mut minus) = (vec![0.0; n], vec![0.0; n]);
+        let radius = site.contact.journal_radius;
+        for &(body, arm) in &bodies {
+            for c in 3 * body..3 * body + 3 {
+                let position_step = if c % 3 == 2 {
+                    FORCE_REL * gap / arm.max(radius)
+                } else {
+                    FORCE_REL * gap
+                };
+                for (col, h) in [
+                    (c, position_step),
+                    (n + c, FORCE_REL * state[n + c].abs().max(1.0)),
+                ] {
+                    let x = state[col];
+                    plus.fill(0.0);
+                    minus.fill(0.0);
+                    state[col] = x + h;
+                    let (q, v) = state.split_at(n);
+                    self.contacts.add_film_into(k, q, v, &mut plus);
+                    state[col] = x - h;
+                    let (q, v) = state.split_at(n);
+                    self.contacts.add_film_into(k, q, v, &mut minus);
+                    state[col] = x;
+                    for &(row_body, _) in &bodies {
+                        for row in 3 * row_body..3 * row_body + 3 {
+                            add(row, col, (plus[row] - minus[row]) / (2.0 * h));
+                        }
+                    }
+                }
+            }
         }
     }
 

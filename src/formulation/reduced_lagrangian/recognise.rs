@@ -81,6 +81,12 @@ pub(super) fn find_four_bar(model: &Model) -> Result<FourBar<'_>, FormulationErr
             clearance.len()
         )));
     };
+    if spec.lubrication.is_some() {
+        return Err(unsupported(format!(
+            "the clearance joint \"{}\" is lubricated, and this formulation's contact forces, analytic Jacobian and outputs are those of the dry contact alone; run it with the DAE or the generalised formulation",
+            clearance_joint.name
+        )));
+    }
     let crank_name = &model.body(crank_id).name;
     // Crank–coupler: an ideal revolute joint from the crank to another body.
     let Some((crank_coupler_index, crank_coupler)) =

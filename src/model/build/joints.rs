@@ -46,6 +46,7 @@ impl Builder<'_, '_> {
                 ),
                 ("contact", j.contact.as_ref().map(|v| v.span())),
                 ("friction", j.friction.as_ref().map(|v| v.span())),
+                ("lubrication", j.lubrication.as_ref().map(|v| v.span())),
                 ("ideal", j.ideal.as_ref().map(|v| v.span())),
                 ("slider_length", sn(&j.slider_length)),
                 ("slider_width", sn(&j.slider_width)),
@@ -106,6 +107,7 @@ impl Builder<'_, '_> {
                         "initial_eccentricity",
                         "contact",
                         "friction",
+                        "lubrication",
                         "ideal",
                     ];
                     self.only_fields(&present, &allowed, "clearance joint")?;
@@ -355,6 +357,24 @@ impl Builder<'_, '_> {
             self.line_contact_needs(j, law, length, what, at.clone())?;
         }
         let friction = self.friction(j.friction.as_ref())?;
+        let lubrication = j
+            .lubrication
+            .as_ref()
+            .map(|l| self.lubrication(l, length, clearance, what))
+            .transpose()?;
+        if let (Some(l), Some(v)) = (&lubrication, &j.initial_eccentricity) {
+            let e = initial_eccentricity[0].hypot(initial_eccentricity[1]);
+            let limit = clearance - l.contact_film_thickness;
+            if e >= limit {
+                return Err(self.err(
+                    v.span(),
+                    format!(
+                        "initial eccentricity |e| = {e:.6e} m leaves a film thinner than contact_film_thickness = {:.6e} m; expected |e| < c − contact_film_thickness = {limit:.6e} m, since the dry contact that begins there would have no impact velocity to scale its damping",
+                        l.contact_film_thickness
+                    ),
+                ));
+            }
+        }
         Ok(ClearanceSpec {
             clearance,
             journal_radius,
@@ -368,6 +388,75 @@ impl Builder<'_, '_> {
             exponent,
             friction,
             initial_eccentricity,
+            lubrication,
+        })
+    }
+
+    /// `[joints.lubrication]`: the film model, the viscosity and the contact threshold; the
+    /// bearing length is the joint's `length`, required here.
+    fn lubrication(
+        &self,
+        l: &Spanned<LubricationFile>,
+        length: Option<f64>,
+        clearance: f64,
+        what: &str,
+    ) -> Res<LubricationSpec> {
+        let f = l.get_ref();
+        let model_field = self.required(&f.model, "model", "[joints.lubrication]", l.span())?;
+        let model = match model_field.get_ref().trim() {
+            "short" => FilmModel::Short,
+            "long" => FilmModel::Long,
+            other => {
+                return Err(self.err(
+                    model_field.span(),
+                    format!(
+                        "unknown film model \"{other}\"; expected one of {}{}",
+                        laws::FILM_MODELS.join(", "),
+                        did_you_mean(other, laws::FILM_MODELS.iter().copied())
+                    ),
+                ));
+            }
+        };
+        let mu_field =
+            self.required(&f.viscosity, "viscosity", "[joints.lubrication]", l.span())?;
+        self.positive(mu_field, "viscosity (Pa·s)")?;
+        let viscosity = self.within(
+            mu_field,
+            "viscosity (Pa·s)",
+            MIN_VISCOSITY,
+            MAX_VISCOSITY,
+            "from near-gases to the heaviest greases",
+        )?;
+        if length.is_none() {
+            return Err(self.err(
+                l.span(),
+                format!(
+                    "a lubricated joint needs the bearing's axial length, which sets the film's load capacity (∝ L³ for the short bearing, ∝ L for the long): expected a field `length` (m, > 0) on {what}, e.g. length = 0.02"
+                ),
+            ));
+        }
+        let contact_film_thickness = match &f.contact_film_thickness {
+            None => 0.01 * clearance,
+            Some(v) => {
+                let h = self.positive(v, "contact film thickness (m)")?;
+                // The film is blended out between h_c and h_c/2 and the dry contact acts on
+                // c − h_c: beyond c/2 the "film" would be thicker than the gap it lives in.
+                if h > 0.5 * clearance {
+                    return Err(self.err(
+                        v.span(),
+                        format!(
+                            "expected a contact film thickness of at most half the radial clearance ({:e} m), found {h:e} m",
+                            0.5 * clearance
+                        ),
+                    ));
+                }
+                h
+            }
+        };
+        Ok(LubricationSpec {
+            model,
+            viscosity,
+            contact_film_thickness,
         })
     }
 

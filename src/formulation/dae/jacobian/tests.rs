@@ -187,6 +187,36 @@ fn fourbar_line_contact_laws() -> Result<(), FormulationError> {
     Ok(())
 }
 
+/// A lubricated joint (short and long film): the film's slopes by central differences inside
+/// the Jacobian, with the film alone (ε ≈ 0.79, squeezing and sliding), in the hand-over layer
+/// (the film weighted, the dry law starting) and below it (dry contact only). `delta` is the
+/// penetration past the contact clearance c − h_c. h_c = 50 µm = c/10 rather than the default
+/// c/100: this test's reference differences (steps of 1e-8 m) have a truncation error of
+/// (h/gap)² relative, 1e-4 at the default layer's 4 µm film (the analytic side's own steps
+/// scale with the film and stay exact there); at 40 µm it is 1e-6.
+#[test]
+fn fourbar_lubricated() -> Result<(), FormulationError> {
+    for model in ["short", "long"] {
+        let film = format!("joints.B.lubrication.model={model}");
+        let sets = [
+            "joints.B.length=0.02",
+            film.as_str(),
+            "joints.B.lubrication.viscosity=0.1",
+            "joints.B.lubrication.contact_film_thickness=5e-5",
+        ];
+        let d = dae_with("models/farahan2016.toml", &sets, false);
+        let y = contact_state(&d, -1e-4, 0.7, 0.05, 0.3, 0.0);
+        check(&d, &y, &format!("{model}: film only"))?;
+        let y = contact_state(&d, -1e-4, 2.5, -0.03, -0.4, 0.0);
+        check(&d, &y, &format!("{model}: film only, separating"))?;
+        let y = contact_state(&d, 1e-5, 0.7, 0.02, 0.3, 0.1);
+        check(&d, &y, &format!("{model}: hand-over layer"))?;
+        let y = contact_state(&d, 3e-5, 0.7, 0.02, 0.3, 0.1);
+        check(&d, &y, &format!("{model}: dry contact below the layer"))?;
+    }
+    Ok(())
+}
+
 #[test]
 fn fourbar_near_stick() -> Result<(), FormulationError> {
     let d = dae("models/farahan2016.toml", false);
