@@ -39,8 +39,9 @@ pub struct SolveArgs {
     /// `--set drivers.motor.speed_rpm=3500`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Run this clearance joint as an ideal revolute joint (repeatable): the ideal reference
-    /// from the same model file. Recorded as `joints.NAME.ideal=true` in the provenance.
+    /// Run this clearance joint as its ideal joint (repeatable): a revolute clearance joint as
+    /// an ideal revolute joint, a prismatic-clearance joint as an ideal prismatic one; the ideal
+    /// reference from the same model file. Recorded as `joints.NAME.ideal=true` in the provenance.
     #[arg(long, value_name = "JOINT")]
     pub ideal: Vec<String>,
 }

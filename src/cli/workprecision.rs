@@ -69,7 +69,7 @@ pub struct WorkPrecisionArgs {
     /// Override a model field (repeatable), e.g. `--set drivers.motor.speed_rpm=3500`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
-    /// Run this clearance joint as an ideal revolute joint (repeatable).
+    /// Run this clearance joint as its ideal joint, revolute or prismatic (repeatable).
     #[arg(long, value_name = "JOINT")]
     ideal: Vec<String>,
     /// Output directory (created if missing) for workprecision.csv, .md, .png and .svg.
