@@ -6,69 +6,32 @@
 //! its Floquet multipliers are exp(λT), λ = −ζω0 ± iω0√(1−ζ²) (L. Meirovitch, *Fundamentals of
 //! Vibrations*, McGraw-Hill, 2001, §3.2 and §1.10). The multipliers stay inside the circle
 //! (|μ| = exp(−ζω0T)) and the orbit has no contact: the branch has no special point. The
-//! oscillator is a formulation of its own here, as in `tests/orbit_forced_oscillator.rs`.
+//! oscillator is a formulation of its own (`tests/common/ode.rs`), as in
+//! `tests/orbit_forced_oscillator.rs`.
 
+mod common;
+
+use common::ode::ForcedOscillator;
 use linkdyn::analysis::AnalysisError;
 use linkdyn::analysis::orbit::{
     BranchEnd, ContinuationOptions, OrbitAt, OrbitFamily, continue_orbit,
 };
-use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolverOptions};
 
-const OMEGA0: f64 = 3.0; // rad/s
-const ZETA: f64 = 0.05;
-const FORCE: f64 = 2.0; // F0/m, m/s²
-
-#[derive(Clone)]
-struct Forced {
-    w: f64,
-}
-impl NoStepHooks for Forced {}
-impl Formulation for Forced {
-    fn n_states(&self) -> usize {
-        2
-    }
-    fn initial_state(&self) -> Vec<f64> {
-        vec![0.0, 0.0]
-    }
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
-        dy[0] = y[1];
-        dy[1] = -OMEGA0 * OMEGA0 * y[0] - 2.0 * ZETA * OMEGA0 * y[1] + FORCE * (self.w * t).sin();
-        Ok(())
-    }
-    fn jacobian(
-        &self,
-        _t: f64,
-        _y: &[f64],
-        _f_y: &[f64],
-        out: &mut [f64],
-        _work: &mut [f64],
-    ) -> Result<usize, FormulationError> {
-        out.copy_from_slice(&[0.0, 1.0, -OMEGA0 * OMEGA0, -2.0 * ZETA * OMEGA0]);
-        Ok(0)
-    }
-}
+const OMEGA0: f64 = ForcedOscillator::OMEGA0;
+const ZETA: f64 = ForcedOscillator::ZETA;
 
 /// The oscillator in its forcing frequency w (rad/s): section at t = 0, period 2π/w.
 struct InFrequency;
 impl OrbitFamily for InFrequency {
-    type F = Forced;
-    fn at(&self, w: f64) -> Result<OrbitAt<Forced>, AnalysisError> {
+    type F = ForcedOscillator;
+    fn at(&self, w: f64) -> Result<OrbitAt<ForcedOscillator>, AnalysisError> {
         Ok(OrbitAt {
-            f: Forced { w },
+            f: ForcedOscillator { w },
             t0: 0.0,
             period: std::f64::consts::TAU / w,
         })
     }
-}
-
-/// (x(0), v(0)) of the steady state at frequency w.
-fn steady_state(w: f64) -> (f64, f64) {
-    let d = OMEGA0 * OMEGA0 - w * w;
-    let c = 2.0 * ZETA * OMEGA0 * w;
-    let amplitude = FORCE / d.hypot(c);
-    let lag = c.atan2(d);
-    (-amplitude * lag.sin(), amplitude * w * lag.cos())
 }
 
 #[test]
@@ -89,7 +52,7 @@ fn every_point_of_the_branch_through_resonance_is_the_steady_state() {
     assert!(branch.points.len() >= 19, "{} points", branch.points.len());
     for pt in &branch.points {
         let w = pt.parameter;
-        let (x0, v0) = steady_state(w);
+        let (x0, v0) = ForcedOscillator { w }.steady_state();
         // The orbit to a few hundred integration tolerances of states of order 1.
         for (got, want, what) in [(pt.y0[0], x0, "x"), (pt.y0[1], v0, "v")] {
             assert!(

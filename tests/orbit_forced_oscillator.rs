@@ -15,42 +15,15 @@
 //! formulation of its own, with its analytic Jacobian, and given to the library's shooting
 //! (`linkdyn::analysis::orbit`) directly — the same code that `linkdyn orbit` runs.
 
+mod common;
+
+use common::ode::ForcedOscillator;
 use linkdyn::analysis::orbit::{OrbitOptions, periodic_orbit};
-use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolverOptions};
 
-const OMEGA0: f64 = 3.0; // rad/s
-const ZETA: f64 = 0.05;
-const FORCE: f64 = 2.0; // F0/m, m/s²
+const OMEGA0: f64 = ForcedOscillator::OMEGA0;
+const ZETA: f64 = ForcedOscillator::ZETA;
 const W: f64 = 2.2; // rad/s
-
-#[derive(Clone)]
-struct Forced;
-impl NoStepHooks for Forced {}
-impl Formulation for Forced {
-    fn n_states(&self) -> usize {
-        2
-    }
-    fn initial_state(&self) -> Vec<f64> {
-        vec![0.0, 0.0]
-    }
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
-        dy[0] = y[1];
-        dy[1] = -OMEGA0 * OMEGA0 * y[0] - 2.0 * ZETA * OMEGA0 * y[1] + FORCE * (W * t).sin();
-        Ok(())
-    }
-    fn jacobian(
-        &self,
-        _t: f64,
-        _y: &[f64],
-        _f_y: &[f64],
-        out: &mut [f64],
-        _work: &mut [f64],
-    ) -> Result<usize, FormulationError> {
-        out.copy_from_slice(&[0.0, 1.0, -OMEGA0 * OMEGA0, -2.0 * ZETA * OMEGA0]);
-        Ok(0)
-    }
-}
 
 #[test]
 fn the_orbit_is_the_steady_state_and_the_multipliers_are_exp_lambda_t() {
@@ -61,18 +34,14 @@ fn the_orbit_is_the_steady_state_and_the_multipliers_are_exp_lambda_t() {
         .atol(1e-13);
     // Shooting from rest at t0 = 0: a guess far from the orbit (amplitude ~0.45 m).
     let orbit = periodic_orbit(
-        &Forced,
+        &ForcedOscillator { w: W },
         0.0,
         &[0.0, 0.0],
         &OrbitOptions::new(period),
         &solver,
     )
     .unwrap_or_else(|e| panic!("{e}"));
-    let d = OMEGA0 * OMEGA0 - W * W;
-    let c = 2.0 * ZETA * OMEGA0 * W;
-    let amplitude = FORCE / d.hypot(c);
-    let lag = c.atan2(d);
-    let (x0, v0) = (-amplitude * lag.sin(), amplitude * W * lag.cos());
+    let (x0, v0) = ForcedOscillator { w: W }.steady_state();
     // The orbit to a few hundred integration tolerances (1e-11 relative, states of order 1).
     for (got, want, what) in [(orbit.y0[0], x0, "x"), (orbit.y0[1], v0, "v")] {
         assert!(

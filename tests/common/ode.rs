@@ -33,6 +33,66 @@ impl Formulation for Oscillator {
     }
 }
 
+/// Damped linear oscillator under harmonic forcing, x'' + 2ζω0 x' + ω0² x = (F0/m) sin(w t), as
+/// (x, v) from rest, with its analytic Jacobian (ω0 = 3 rad/s, ζ = 0.05, F0/m = 2 m/s²): the
+/// periodic-orbit tests' reference (`tests/orbit_forced_oscillator.rs`,
+/// `tests/continuation_forced_oscillator.rs`, whose headers give the closed forms' sources).
+#[derive(Clone)]
+pub struct ForcedOscillator {
+    /// Forcing frequency w (rad/s).
+    pub w: f64,
+}
+
+impl ForcedOscillator {
+    /// Natural frequency ω0 (rad/s).
+    pub const OMEGA0: f64 = 3.0;
+    /// Damping ratio ζ.
+    pub const ZETA: f64 = 0.05;
+    /// Forcing amplitude F0/m (m/s²).
+    pub const FORCE: f64 = 2.0;
+
+    /// (x(0), v(0)) of the steady state x(t) = A sin(w t − ϕ), A = (F0/m)/√((ω0² − w²)² +
+    /// (2ζω0 w)²), tan ϕ = 2ζω0 w/(ω0² − w²).
+    pub fn steady_state(&self) -> (f64, f64) {
+        let (w, omega0) = (self.w, Self::OMEGA0);
+        let d = omega0 * omega0 - w * w;
+        let c = 2.0 * Self::ZETA * omega0 * w;
+        let amplitude = Self::FORCE / d.hypot(c);
+        let lag = c.atan2(d);
+        (-amplitude * lag.sin(), amplitude * w * lag.cos())
+    }
+}
+
+impl NoStepHooks for ForcedOscillator {}
+
+impl Formulation for ForcedOscillator {
+    fn n_states(&self) -> usize {
+        2
+    }
+    fn initial_state(&self) -> Vec<f64> {
+        vec![0.0, 0.0]
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), FormulationError> {
+        let (omega0, zeta) = (Self::OMEGA0, Self::ZETA);
+        dy[0] = y[1];
+        dy[1] =
+            -omega0 * omega0 * y[0] - 2.0 * zeta * omega0 * y[1] + Self::FORCE * (self.w * t).sin();
+        Ok(())
+    }
+    fn jacobian(
+        &self,
+        _t: f64,
+        _y: &[f64],
+        _f_y: &[f64],
+        out: &mut [f64],
+        _work: &mut [f64],
+    ) -> Result<usize, FormulationError> {
+        let (omega0, zeta) = (Self::OMEGA0, Self::ZETA);
+        out.copy_from_slice(&[0.0, 1.0, -omega0 * omega0, -2.0 * zeta * omega0]);
+        Ok(0)
+    }
+}
+
 /// Non-autonomous, nonlinear in t: y' = y cos t, y(0) = 1, exact y = exp(sin t).
 pub struct ExpSin;
 
