@@ -47,12 +47,8 @@ pub struct AnimateArgs {
     solve: SolveArgs,
     /// Equations of motion (model files only): `dae`, `reduced` (the four-bar with one
     /// clearance joint) or `generalized`.
-    #[arg(long, value_parser = parse_formulation, default_value = "dae")]
+    #[arg(long, value_parser = super::run::parse_formulation, default_value = "dae")]
     formulation: FormulationKind,
-}
-
-fn parse_formulation(s: &str) -> Result<FormulationKind, String> {
-    s.parse().map_err(|e: linkdyn::Error| e.to_string())
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {

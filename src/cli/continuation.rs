@@ -24,7 +24,7 @@ pub struct ContinueArgs {
     solve: SolveArgs,
     /// Equations of motion: periodic orbits need `reduced` (the four-bar with one clearance
     /// joint).
-    #[arg(long, default_value = "reduced", value_parser = parse_formulation)]
+    #[arg(long, default_value = "reduced", value_parser = super::run::parse_formulation)]
     formulation: FormulationKind,
     /// The continued model field, as a `--set` path (e.g. `joints.B.clearance`).
     #[arg(long)]
@@ -49,10 +49,6 @@ pub struct ContinueArgs {
     /// Result file (CSV, one row per point); the summary goes beside it as `.json`.
     #[arg(long)]
     out: PathBuf,
-}
-
-fn parse_formulation(s: &str) -> Result<FormulationKind, String> {
-    s.parse().map_err(|e: Error| e.to_string())
 }
 
 /// Runs `continue`.

@@ -6,7 +6,6 @@ use super::args::SolveArgs;
 use super::poincare::bad;
 use super::{Failure, in_model};
 use clap::Args;
-use linkdyn::Error;
 use linkdyn::output::{ResultPair, csv_header, push_number};
 use linkdyn::simulation::FormulationKind;
 use linkdyn::studies::orbit::{OrbitPeriod, OrbitRequest, orbit};
@@ -21,7 +20,7 @@ pub struct OrbitArgs {
     solve: SolveArgs,
     /// Equations of motion: periodic orbits need `reduced` (the four-bar with one clearance
     /// joint).
-    #[arg(long, default_value = "reduced", value_parser = parse_formulation)]
+    #[arg(long, default_value = "reduced", value_parser = super::run::parse_formulation)]
     formulation: FormulationKind,
     /// Period in turns of the model's single driver (default 1).
     #[arg(long, conflicts_with = "period", allow_negative_numbers = true)]
@@ -36,10 +35,6 @@ pub struct OrbitArgs {
     /// Result file (JSON); one period of the orbit goes beside it as `.csv`.
     #[arg(long)]
     out: PathBuf,
-}
-
-fn parse_formulation(s: &str) -> Result<FormulationKind, String> {
-    s.parse().map_err(|e: Error| e.to_string())
 }
 
 /// Runs `orbit`.

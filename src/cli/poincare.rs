@@ -21,12 +21,8 @@ pub struct ModelArgs {
     pub solve: SolveArgs,
     /// Equations of motion: `dae`, `reduced` (the four-bar with one clearance joint) or
     /// `generalized`.
-    #[arg(long, value_parser = parse_formulation, default_value = "dae")]
+    #[arg(long, value_parser = super::run::parse_formulation, default_value = "dae")]
     pub formulation: FormulationKind,
-}
-
-fn parse_formulation(s: &str) -> Result<FormulationKind, String> {
-    s.parse().map_err(|e: Error| e.to_string())
 }
 
 impl ModelArgs {

@@ -56,6 +56,7 @@ enum Format {
     Mat,
 }
 
+/// `--formulation`'s parser for every command that takes one: the library's own names and message.
 pub(super) fn parse_formulation(s: &str) -> Result<FormulationKind, String> {
     s.parse().map_err(|e: linkdyn::Error| e.to_string())
 }
