@@ -3,6 +3,36 @@
 use super::*;
 
 impl Builder<'_, '_> {
+    /// The two anchors of a joint from its required body and point fields, in the order
+    /// (body, point) of the first anchor then of the second, each named with its field for the
+    /// "missing field" message; `what` names the joint there, `owner` in the anchor's messages.
+    fn joint_anchors(
+        &self,
+        scope: &Scope<'_>,
+        fields: [(&Option<Name>, &str); 4],
+        (what, owner, at): (&str, &str, &Range<usize>),
+    ) -> Res<(Anchor, Anchor)> {
+        let [
+            (body_a, body_a_field),
+            (point_a, point_a_field),
+            (body_b, body_b_field),
+            (point_b, point_b_field),
+        ] = fields;
+        let a = self.anchor(
+            scope,
+            self.required(body_a, body_a_field, what, at.clone())?,
+            self.required(point_a, point_a_field, what, at.clone())?,
+            owner,
+        )?;
+        let b = self.anchor(
+            scope,
+            self.required(body_b, body_b_field, what, at.clone())?,
+            self.required(point_b, point_b_field, what, at.clone())?,
+            owner,
+        )?;
+        Ok((a, b))
+    }
+
     pub(super) fn joints(
         &self,
         raw: &[JointFile],
@@ -63,17 +93,15 @@ impl Builder<'_, '_> {
                     }
                     self.only_fields(&present, &allowed, &format!("{kind_name} joint"))?;
                     let what = format!("{kind_name} joint \"{name}\"");
-                    let a = self.anchor(
+                    let (a, b) = self.joint_anchors(
                         scope,
-                        self.required(&j.body_a, "body_a", &what, at.clone())?,
-                        self.required(&j.point_a, "point_a", &what, at.clone())?,
-                        &owner,
-                    )?;
-                    let b = self.anchor(
-                        scope,
-                        self.required(&j.body_b, "body_b", &what, at.clone())?,
-                        self.required(&j.point_b, "point_b", &what, at.clone())?,
-                        &owner,
+                        [
+                            (&j.body_a, "body_a"),
+                            (&j.point_a, "point_a"),
+                            (&j.body_b, "body_b"),
+                            (&j.point_b, "point_b"),
+                        ],
+                        (&what, &owner, &at),
                     )?;
                     let kind = if kind_name == "revolute" {
                         JointKind::Revolute
@@ -112,17 +140,15 @@ impl Builder<'_, '_> {
                     ];
                     self.only_fields(&present, &allowed, "clearance joint")?;
                     let what = format!("clearance joint \"{name}\"");
-                    let a = self.anchor(
+                    let (a, b) = self.joint_anchors(
                         scope,
-                        self.required(&j.bearing, "bearing", &what, at.clone())?,
-                        self.required(&j.bearing_point, "bearing_point", &what, at.clone())?,
-                        &owner,
-                    )?;
-                    let b = self.anchor(
-                        scope,
-                        self.required(&j.journal, "journal", &what, at.clone())?,
-                        self.required(&j.journal_point, "journal_point", &what, at.clone())?,
-                        &owner,
+                        [
+                            (&j.bearing, "bearing"),
+                            (&j.bearing_point, "bearing_point"),
+                            (&j.journal, "journal"),
+                            (&j.journal_point, "journal_point"),
+                        ],
+                        (&what, &owner, &at),
                     )?;
                     (
                         a,
@@ -150,17 +176,15 @@ impl Builder<'_, '_> {
                     ];
                     self.only_fields(&present, &allowed, "prismatic-clearance joint")?;
                     let what = format!("prismatic-clearance joint \"{name}\"");
-                    let a = self.anchor(
+                    let (a, b) = self.joint_anchors(
                         scope,
-                        self.required(&j.body_a, "body_a", &what, at.clone())?,
-                        self.required(&j.point_a, "point_a", &what, at.clone())?,
-                        &owner,
-                    )?;
-                    let b = self.anchor(
-                        scope,
-                        self.required(&j.body_b, "body_b", &what, at.clone())?,
-                        self.required(&j.point_b, "point_b", &what, at.clone())?,
-                        &owner,
+                        [
+                            (&j.body_a, "body_a"),
+                            (&j.point_a, "point_a"),
+                            (&j.body_b, "body_b"),
+                            (&j.point_b, "point_b"),
+                        ],
+                        (&what, &owner, &at),
                     )?;
                     let spec = self.prismatic_clearance(j, &what, at.clone())?;
                     (a, b, JointKind::PrismaticClearance(spec))
