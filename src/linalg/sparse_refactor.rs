@@ -96,15 +96,10 @@ pub(crate) struct FixedPivotLu<T> {
     work: Vec<T>,
 }
 
-impl<T: Entry> FixedPivotLu<T> {
-    /// Copies the factors and row pivots of faer's simplicial LU (`row_fwd`, `row_inv` as faer
-    /// returned them).
-    pub(crate) fn from_faer(
-        lu: &SimplicialLu<usize, T>,
-        row_fwd: &[usize],
-        row_inv: &[usize],
-    ) -> Self {
-        let mut fixed = FixedPivotLu {
+/// No factors yet: empty buffers (no bound on the entries, as a derived `Default` would ask).
+impl<T> Default for FixedPivotLu<T> {
+    fn default() -> Self {
+        FixedPivotLu {
             row_fwd: Vec::new(),
             row_inv: Vec::new(),
             l_ptr: Vec::new(),
@@ -114,12 +109,14 @@ impl<T: Entry> FixedPivotLu<T> {
             u_idx: Vec::new(),
             u_val: Vec::new(),
             work: Vec::new(),
-        };
-        fixed.copy_from_faer(lu, row_fwd, row_inv);
-        fixed
+        }
     }
+}
 
-    /// Replaces the factors by faer's (the buffers keep their capacity).
+impl<T: Entry> FixedPivotLu<T> {
+    /// Replaces the factors by faer's simplicial LU and its row pivots (`row_fwd`, `row_inv` as
+    /// faer returned them); the buffers keep their capacity, so once they are large enough this
+    /// allocates nothing. Start from [`FixedPivotLu::default`] (no factors).
     pub(crate) fn copy_from_faer(
         &mut self,
         lu: &SimplicialLu<usize, T>,

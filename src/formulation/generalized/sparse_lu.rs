@@ -223,17 +223,9 @@ impl SparseLu {
                 return Err(self.row_perm_fwd[j]);
             }
         }
-        match &mut self.fixed {
-            // The buffers keep their capacity: no allocation once they are large enough.
-            Some(fixed) => fixed.copy_from_faer(&self.lu, &self.row_perm_fwd, &self.row_perm_inv),
-            None => {
-                self.fixed = Some(FixedPivotLu::from_faer(
-                    &self.lu,
-                    &self.row_perm_fwd,
-                    &self.row_perm_inv,
-                ));
-            }
-        }
+        self.fixed
+            .get_or_insert_with(FixedPivotLu::default)
+            .copy_from_faer(&self.lu, &self.row_perm_fwd, &self.row_perm_inv);
         self.factored = true;
         Ok(())
     }

@@ -266,15 +266,8 @@ fn factor<T: Entry>(
         };
         return Err(Singular { column });
     }
-    let fixed = match &mut num.fixed {
-        Some(fixed) => {
-            fixed.copy_from_faer(&num.lu, &num.row_fwd, &num.row_inv);
-            fixed
-        }
-        None => num
-            .fixed
-            .insert(FixedPivotLu::from_faer(&num.lu, &num.row_fwd, &num.row_inv)),
-    };
+    let fixed = num.fixed.get_or_insert_with(FixedPivotLu::default);
+    fixed.copy_from_faer(&num.lu, &num.row_fwd, &num.row_inv);
     // A NaN pivot (from a NaN Jacobian) fails this test too.
     let bad = fixed.pivots().position(|pivot| {
         let size = pivot.modulus();
