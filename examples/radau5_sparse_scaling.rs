@@ -4,18 +4,23 @@
 //! first flat position. `cargo run --release --example radau5_sparse_scaling -- --loops
 //! 1,2,4,10,40,80 --dense-max 80` prints one markdown row per chain and path (best wall time of
 //! `--repeat` runs, default 3): wall time per accepted step and the counts behind it.
+//! `--method ida` (with `--features ida`) measures IDA's dense and sparse LU instead
+//! (`SolverOptions::ida`).
 
 use linkdyn::formulation::{Dae, DaeOptions, Formulation};
 use linkdyn::solve::radau5::{LinearSolver, Radau5Settings};
-use linkdyn::solve::{Method, SolverOptions, SolverStats, Stepper, Stop};
+use linkdyn::solve::{IdaSettings, Method, SolverOptions, SolverStats, Stepper, Stop};
 use std::time::Instant;
 
-fn run(dae: &Dae, solver: LinearSolver, t_end: f64) -> (f64, SolverStats) {
+fn run(dae: &Dae, method: Method, solver: LinearSolver, t_end: f64) -> (f64, SolverStats) {
     let options = SolverOptions::default()
-        .method(Method::Radau5)
+        .method(method)
         .rtol(1e-8)
         .atol(1e-10)
         .radau5(Radau5Settings::default().linear_solver(solver))
+        .ida(IdaSettings {
+            linear_solver: solver,
+        })
         .build()
         .unwrap_or_else(|e| panic!("{e}"));
     let mut f = dae.clone();
@@ -48,6 +53,12 @@ fn main() {
     let dense_max: usize = value("--dense-max", "80").parse().unwrap_or(80);
     let repeat: usize = value("--repeat", "3").parse().unwrap_or(3).max(1);
     let t_end: f64 = value("--t-end", "0.5").parse().unwrap_or(0.5);
+    let method = match value("--method", "radau5").as_str() {
+        "radau5" => Method::Radau5,
+        #[cfg(feature = "ida")]
+        "ida" => Method::Ida,
+        other => panic!("--method {other}: radau5 (or ida, with --features ida)"),
+    };
     println!(
         "| loops | bodies | states | LU | steps (rejected) | Jacobians | Newton iterations | ms per step |"
     );
@@ -69,7 +80,7 @@ fn main() {
             let mut best = f64::INFINITY;
             let mut stats = SolverStats::default();
             for _ in 0..repeat {
-                let (wall, s) = run(&dae, solver, t_end);
+                let (wall, s) = run(&dae, method, solver, t_end);
                 best = best.min(wall);
                 stats = s;
             }

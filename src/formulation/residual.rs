@@ -25,6 +25,7 @@
 //! scalar (α₀ the leading BDF coefficient, h the step). [`ResidualForm::jacobian`] writes it
 //! **column-major** (as SUNDIALS' dense matrices store it): `out[j * N + i]` = J_ij.
 
+use super::sparse_jacobian::SparsePattern;
 use super::{Formulation, FormulationError};
 use std::cell::RefCell;
 
@@ -101,6 +102,30 @@ pub trait ResidualForm {
         c: f64,
         out: &mut [f64],
     ) -> Result<usize, FormulationError>;
+
+    /// The structural non-zeros of J (every entry [`ResidualForm::sparse_jacobian`] may make
+    /// non-zero at any state, and the whole diagonal), fixed for the form's life, for a sparse
+    /// linear solver; `None` (the default) where the form only writes J densely.
+    fn sparse_pattern(&self) -> Option<SparsePattern> {
+        None
+    }
+
+    /// J at (t, Y, Ẏ) as [`ResidualForm::jacobian`] computes it, into `values` over
+    /// [`ResidualForm::sparse_pattern`] (in its order). Returns the number of right-hand-side
+    /// calls made. The default refuses: only forms with a pattern implement it.
+    fn sparse_jacobian(
+        &self,
+        _t: f64,
+        _yy: &[f64],
+        _yp: &[f64],
+        _c: f64,
+        _values: &mut [f64],
+    ) -> Result<usize, FormulationError> {
+        Err(FormulationError::Unsupported {
+            formulation: "residual form".into(),
+            reason: "no sparse iteration matrix".into(),
+        })
+    }
 }
 
 /// Any [`Formulation`] as the implicit ODE F(t, Y, Ẏ) = Ẏ − f(t, Y): no algebraic unknowns,

@@ -5,6 +5,9 @@
 //!   again: Radau5's Newton matrices (`solve/radau5/sparse.rs`) and the generalised
 //!   formulation's dependent block Φ_qD (`formulation/generalized/sparse_lu.rs`).
 //!
+//! - [`sparse_lu`]: a square sparse LU over a pattern analysed once, refactorised with
+//!   [`sparse_refactor`]: Radau5's Newton matrices and IDA's iteration matrix on large models.
+//!
 //! The other factorisations still live beside their one user, each kept where a measurement
 //! showed it beating faer or nalgebra at its size (docs/measurements.md, "Small dense linear
 //! algebra", "Hundreds of bodies: the DAE's Schur complement", "Radau5 with a sparse LU"):
@@ -13,4 +16,5 @@
 //! the generalised formulation's small dependent blocks (`formulation/generalized/lu.rs`) and
 //! Radau5's dense real and complex LUs (`solve/radau5/linalg.rs`).
 
+pub(crate) mod sparse_lu;
 pub(crate) mod sparse_refactor;

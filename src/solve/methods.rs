@@ -26,6 +26,9 @@ pub(crate) fn new_integrator<F: Formulation + ?Sized>(
             &opts.radau5,
         )),
         #[cfg(feature = "ida")]
-        Method::Ida => Box::new(super::ida::IdaMethod::new(n, weights, opts.h_max)),
+        Method::Ida => Box::new(
+            super::ida::IdaMethod::new(n, weights, opts.h_max)
+                .linear_solver(opts.ida.linear_solver),
+        ),
     }
 }

@@ -116,7 +116,7 @@ pub use error::SolveError;
 pub use events::EventRecord;
 pub use integrate::{Sink, integrate};
 pub use integrator::{Attempt, ErrorWeights, Integrator, Rejection, Start, Trial};
-pub use options::{ExplicitRkSettings, KinkEvents, Method, MethodInfo, SolverOptions};
+pub use options::{ExplicitRkSettings, IdaSettings, KinkEvents, Method, MethodInfo, SolverOptions};
 pub use record::Recorder;
 pub use stats::SolverStats;
 pub use stepper::{Stepper, Stop};

@@ -308,6 +308,18 @@ pub struct SolverOptions {
     pub explicit_rk: ExplicitRkSettings,
     /// Settings of Radau5 (Newton iteration, Jacobian reuse, controller).
     pub radau5: crate::solve::radau5::Radau5Settings,
+    /// Settings of SUNDIALS IDA (`--method ida`, cargo feature `ida`; ignored otherwise).
+    pub ida: IdaSettings,
+}
+
+/// Settings of SUNDIALS IDA only (ignored by other methods and without the feature `ida`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct IdaSettings {
+    /// How IDA's iteration matrix ∂F/∂Y + c ∂F/∂Ẏ is factored: IDA's dense LU, or the sparse
+    /// LU (faer, `crate::linalg::sparse_lu`) over the residual form's pattern where it has one;
+    /// `Auto` takes the sparse one from `solve::ida::SPARSE_MIN_UNKNOWNS` unknowns on
+    /// (measured: docs/measurements.md, "IDA with a sparse LU").
+    pub linear_solver: crate::solve::radau5::LinearSolver,
 }
 
 impl Default for SolverOptions {
@@ -339,6 +351,7 @@ impl Default for SolverOptions {
             fixed_step: None,
             explicit_rk: ExplicitRkSettings::default(),
             radau5: crate::solve::radau5::Radau5Settings::default(),
+            ida: IdaSettings::default(),
         }
     }
 }
@@ -444,6 +457,13 @@ impl SolverOptions {
     #[must_use]
     pub fn radau5(mut self, settings: crate::solve::radau5::Radau5Settings) -> Self {
         self.radau5 = settings;
+        self
+    }
+
+    /// Sets the settings of IDA.
+    #[must_use]
+    pub fn ida(mut self, settings: IdaSettings) -> Self {
+        self.ida = settings;
         self
     }
 

@@ -75,10 +75,15 @@
 //! analytic derivatives would be long for little gain: each column costs two evaluations of the
 //! forces, not of the residual. The energy integrals have no rows (quadratures, above).
 //!
-//! Where sparsity would enter: each constraint row touches at most two bodies and each force
-//! element two, so J has 3 × 3 blocks in the pattern of the linkage's graph (plus the λ rows).
-//! A four-bar's N ≈ 30 is best served by the dense LU; a chain of hundreds of bodies would
-//! hand the same entries to a sparse (KLU) or banded linear solver.
+//! **Sparse** ([`ResidualForm::sparse_pattern`], [`ResidualForm::sparse_jacobian`]): each
+//! constraint row touches at most two bodies and each force element or contact two, so J has
+//! 3 × 3 blocks in the pattern of the linkage's graph plus the λ rows and columns. The same
+//! code writes the same entries either densely or into the values over that pattern (built
+//! once, from the bodies of each row, contact site, corner and force element), so the two are
+//! equal bit for bit (`tests/ida_residual_form.rs`); an entry outside the pattern is an error,
+//! never dropped. IDA factors the sparse one with faer on large models (`solve::ida`). The
+//! differenced forces still visit every coordinate row per column (O(n) each, zero outside the
+//! element's bodies): cheap while few bodies carry contacts or force elements.
 //!
 //! # References
 //! 1. J. Baumgarte, Stabilization of constraints and integrals of motion in dynamical systems,
@@ -93,12 +98,13 @@ use crate::formulation::contacts::ContactSites;
 use crate::formulation::jacobian::increment;
 use crate::formulation::residual::ResidualForm;
 use crate::formulation::schur::{Schur, SchurSolver};
+use crate::formulation::sparse_jacobian::{Scatter, SparsePattern};
 use crate::formulation::{Formulation, FormulationError};
 use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet, RowSource};
 use crate::mechanics::planar::{perp, point_state};
 use crate::model::{Anchor, Baumgarte, ForceElement, Frame, Model};
-use std::cell::RefCell;
+use std::cell::{OnceCell, RefCell};
 
 /// The residual form of a [`Dae`] (see the module documentation).
 #[derive(Debug, Clone)]
@@ -120,6 +126,10 @@ pub struct DaeResidual {
     energy: bool,
     /// Bodies whose coordinates Q depends on: the finite-difference columns.
     force_bodies: Vec<usize>,
+    /// The (at most two) bodies of each active row, which do not change with q.
+    row_bodies: Vec<[Option<usize>; 2]>,
+    /// The sparse pattern of J, built on the first [`ResidualForm::sparse_jacobian`].
+    pattern: OnceCell<SparsePattern>,
     /// With `--energy`: the DAE, for the rates of the energy integrals.
     dae: Option<Dae>,
     work: RefCell<Work>,
@@ -207,14 +217,21 @@ impl DaeResidual {
             .collect();
         // The structure of S from the rows at the initial state (which bodies a row touches
         // does not change with q), as the DAE's own right-hand side builds it.
-        let schur = {
+        let (schur, row_bodies) = {
             let y0 = dae.initial_state();
             let (q0, v0) = (&y0[..nc], &y0[nc..2 * nc]);
             let mut sin_cos = vec![(0.0, 1.0); nb];
             sin_cos_into(q0, &mut sin_cos);
             let mut eval = ConstraintEval::with_rows(m);
             constraints.evaluate_into(dae.t0(), q0, v0, &sin_cos, &mut eval);
-            Schur::new(&eval.rows, &active, SchurSolver::Auto)
+            let row_bodies = active
+                .iter()
+                .map(|&r| [eval.rows[r].body_a, eval.rows[r].body_b])
+                .collect();
+            (
+                Schur::new(&eval.rows, &active, SchurSolver::Auto),
+                row_bodies,
+            )
         };
         DaeResidual {
             inv_mass: mass.iter().map(|m| 1.0 / m).collect(),
@@ -245,6 +262,8 @@ impl DaeResidual {
             contacts,
             energy,
             force_bodies,
+            row_bodies,
+            pattern: OnceCell::new(),
         }
     }
 
@@ -352,6 +371,14 @@ fn sin_cos_into(q: &[f64], out: &mut [(f64, f64)]) {
     for (i, sc) in out.iter_mut().enumerate() {
         *sc = q[3 * i + 2].sin_cos();
     }
+}
+
+/// The coordinates (3 per body) of `bodies`.
+fn coordinates_of(bodies: impl IntoIterator<Item = usize>) -> Vec<usize> {
+    bodies
+        .into_iter()
+        .flat_map(|b| [3 * b, 3 * b + 1, 3 * b + 2])
+        .collect()
 }
 
 fn body_of(frame: Frame) -> Option<usize> {
@@ -520,13 +547,91 @@ impl ResidualForm for DaeResidual {
         c: f64,
         out: &mut [f64],
     ) -> Result<usize, FormulationError> {
+        out.fill(0.0);
         let nn = self.n_unknowns();
+        self.iteration_matrix(t, yy, yp, c, &mut Dense { out, nn })
+    }
+
+    fn sparse_pattern(&self) -> Option<SparsePattern> {
+        Some(self.sparse_layout().clone())
+    }
+
+    fn sparse_jacobian(
+        &self,
+        t: f64,
+        yy: &[f64],
+        yp: &[f64],
+        c: f64,
+        values: &mut [f64],
+    ) -> Result<usize, FormulationError> {
+        let pattern = self.sparse_layout();
+        if values.len() != pattern.nnz() {
+            return Err(FormulationError::Unsupported {
+                formulation: "DAE (residual form)".into(),
+                reason: format!(
+                    "sparse iteration matrix with {} values for a pattern of {}",
+                    values.len(),
+                    pattern.nnz()
+                ),
+            });
+        }
+        let mut scatter = Scatter::new(pattern, values);
+        let calls = self.iteration_matrix(t, yy, yp, c, &mut scatter)?;
+        if scatter.missed() > 0 {
+            // The pattern misses an entry the dense matrix has: a bug, never silently dropped.
+            return Err(FormulationError::Unsupported {
+                formulation: "DAE (residual form)".into(),
+                reason: format!(
+                    "{} non-zero entries of the iteration matrix outside its sparse pattern",
+                    scatter.missed()
+                ),
+            });
+        }
+        Ok(calls)
+    }
+}
+
+/// Where [`DaeResidual::iteration_matrix`] puts its entries: the dense column-major N × N matrix
+/// of [`ResidualForm::jacobian`] or the values over the sparse pattern.
+trait Entries {
+    fn add(&mut self, row: usize, col: usize, value: f64);
+}
+
+/// A dense column-major matrix of dimension `nn`, zero before the first entry.
+struct Dense<'a> {
+    out: &'a mut [f64],
+    nn: usize,
+}
+
+impl Entries for Dense<'_> {
+    #[inline]
+    fn add(&mut self, row: usize, col: usize, value: f64) {
+        self.out[col * self.nn + row] += value;
+    }
+}
+
+impl Entries for Scatter<'_> {
+    #[inline]
+    fn add(&mut self, row: usize, col: usize, value: f64) {
+        Scatter::add(self, row, col, value);
+    }
+}
+
+impl DaeResidual {
+    /// J = ∂F/∂Y + c ∂F/∂Ẏ at (t, Y, Ẏ) into `out` (which starts at zero): the analytic blocks,
+    /// the differenced curvature of prismatic rows and the differenced forces (module
+    /// documentation).
+    fn iteration_matrix<E: Entries>(
+        &self,
+        t: f64,
+        yy: &[f64],
+        yp: &[f64],
+        c: f64,
+        out: &mut E,
+    ) -> Result<usize, FormulationError> {
         let nc = self.n_coordinates();
         let n = self.energy_index();
         let Baumgarte { alpha, beta } = self.baumgarte;
-        out.fill(0.0);
-        // Entry (row i, column j) of the column-major N × N matrix.
-        let at = |i: usize, j: usize| j * nn + i;
         let (q, v) = (&yy[..nc], &yy[nc..2 * nc]);
         let lambda = &yy[n..];
         let acc = &yp[nc..2 * nc];
@@ -538,17 +643,17 @@ impl ResidualForm for DaeResidual {
         // ∂F_λ/∂λ = −diag(Δ), Δ held fixed (as in the DAE's own Jacobian, `dae/jacobian.rs`).
         self.factor(t, &w.ce, &mut w.schur)?;
         for (i, d) in w.schur.regularisation().iter().enumerate() {
-            out[at(n + i, n + i)] = -d;
+            out.add(n + i, n + i, -d);
         }
 
         // F_q = q̇ − v; F_v = M v̇ + …; F_s = ṡ
         for k in 0..nc {
-            out[at(k, k)] = c;
-            out[at(k, nc + k)] = -1.0;
-            out[at(nc + k, nc + k)] = c * self.mass[k];
+            out.add(k, k, c);
+            out.add(k, nc + k, -1.0);
+            out.add(nc + k, nc + k, c * self.mass[k]);
         }
         for k in 2 * nc..n {
-            out[at(k, k)] = c;
+            out.add(k, k, c);
         }
 
         for (i, &r) in self.active.iter().enumerate() {
@@ -559,10 +664,10 @@ impl ResidualForm for DaeResidual {
                 for comp in 0..3 {
                     let col = 3 * b + comp;
                     // ∂F_v/∂λ = Φ_qᵀ.
-                    out[at(nc + col, li)] += jac[comp];
+                    out.add(nc + col, li, jac[comp]);
                     // ∂F_λ/∂v̇ = Φ_q, ∂(2αΦ̇)/∂v = 2α Φ_q, ∂(β²Φ)/∂q = β² Φ_q.
-                    out[at(li, nc + col)] += (c + 2.0 * alpha) * jac[comp];
-                    out[at(li, col)] += beta * beta * jac[comp];
+                    out.add(li, nc + col, (c + 2.0 * alpha) * jac[comp]);
+                    out.add(li, col, beta * beta * jac[comp]);
                 }
             }
             match self.kinds[i] {
@@ -576,13 +681,13 @@ impl ResidualForm for DaeResidual {
                         let (u, pu, omega) = (p.arm[axis], perp(p.arm)[axis], p.omega);
                         let phi_col = 3 * body + 2;
                         // ∂(λ_i ∂Φ_i/∂φ)/∂φ.
-                        out[at(nc + phi_col, phi_col)] += sign * (-u) * lambda[i];
+                        out.add(nc + phi_col, phi_col, sign * (-u) * lambda[i]);
                         // ∂/∂φ of Φ_q v̇ − γ + 2α Φ̇.
                         let d_phi = sign
                             * (-u * acc[phi_col] - pu * omega * omega - 2.0 * alpha * u * omega);
-                        out[at(li, phi_col)] += d_phi;
+                        out.add(li, phi_col, d_phi);
                         // ∂/∂φ̇ of −γ (Φ̇'s part 2α Φ_q is above).
-                        out[at(li, nc + phi_col)] += sign * (-2.0 * u * omega);
+                        out.add(li, nc + phi_col, sign * (-2.0 * u * omega));
                     }
                 }
                 RowKind::Differenced => self.difference_row(t, i, r, yy, yp, w, out),
@@ -593,14 +698,57 @@ impl ResidualForm for DaeResidual {
         let calls = self.difference_forces(t, yy, w, out)?;
         Ok(calls)
     }
-}
 
-impl DaeResidual {
+    /// The pattern of J (built once): the diagonal, F_q's −I on v, and for each active row its
+    /// bodies' coordinates and velocities in the λ row, the multiplier in their F_v rows and the
+    /// curvature ∂(Φ_qᵀ λ)/∂q among them; for each contact site, corner and force element, its
+    /// bodies' F_v rows against their coordinates and velocities (and the stored impact
+    /// velocity of the site or corner): the groups whose forces the differenced columns move.
+    fn sparse_layout(&self) -> &SparsePattern {
+        self.pattern.get_or_init(|| {
+            let nc = self.n_coordinates();
+            let n = self.energy_index();
+            let dim = self.n_unknowns();
+            let mut entries: Vec<(usize, usize)> = (0..dim).map(|i| (i, i)).collect();
+            entries.extend((0..nc).map(|k| (k, nc + k)));
+            for (i, bodies) in self.row_bodies.iter().enumerate() {
+                let li = n + i;
+                let cols = coordinates_of(bodies.iter().flatten().copied());
+                for &c in &cols {
+                    entries.extend([(nc + c, li), (li, nc + c), (li, c)]);
+                    entries.extend(cols.iter().map(|&p| (nc + c, p)));
+                }
+            }
+            let mut couple = |cols: &[usize], stored: Option<usize>| {
+                for &c in cols {
+                    for &p in cols {
+                        entries.extend([(nc + c, p), (nc + c, nc + p)]);
+                    }
+                    entries.extend(stored.map(|col| (nc + c, col)));
+                }
+            };
+            for (k, site) in self.contacts.sites().iter().enumerate() {
+                let bodies = [site.journal.frame, site.bearing.frame]
+                    .into_iter()
+                    .filter_map(body_of);
+                couple(&coordinates_of(bodies), Some(2 * nc + k));
+            }
+            let first = self.contacts.sites().len();
+            for (i, corner) in self.contacts.corners().iter().enumerate() {
+                couple(&coordinates_of(corner.bodies()), Some(2 * nc + first + i));
+            }
+            for e in 0..self.applied.n_elements() {
+                couple(&coordinates_of(self.applied.element_bodies(e)), None);
+            }
+            SparsePattern::from_entries(dim, entries)
+        })
+    }
+
     /// Curvature terms of active row i (constraint row r) by forward differences over the
     /// coordinates and velocities of its bodies: ∂(Φ_q v̇ − γ + 2αΦ̇ + β²Φ)/∂(q, v) and
     /// ∂(λ_i Φ_q,iᵀ)/∂q, minus the analytic first-order parts already written.
     #[allow(clippy::too_many_arguments)]
-    fn difference_row(
+    fn difference_row<E: Entries>(
         &self,
         t: f64,
         i: usize,
@@ -608,9 +756,8 @@ impl DaeResidual {
         yy: &[f64],
         yp: &[f64],
         w: &mut Work,
-        out: &mut [f64],
+        out: &mut E,
     ) {
-        let nn = self.n_unknowns();
         let nc = self.n_coordinates();
         let n = self.energy_index();
         let li = n + i;
@@ -652,14 +799,14 @@ impl DaeResidual {
                     };
                     let value = self.constraint_row(&w.ce_pert, r, acc);
                     let col_y = if velocity { nc + col } else { col };
-                    out[col_y * nn + li] += (value - base) / d - first_order;
+                    out.add(li, col_y, (value - base) / d - first_order);
                     if !velocity {
                         // ∂(λ Φ_q,iᵀ)/∂q_col onto the F_v rows of the row's bodies.
                         let pert = w.ce_pert.rows[r];
                         for &b2 in &bodies {
                             for c2 in 0..3 {
                                 let dj = jac_entry(&pert, b2, c2) - jac_entry(&row, b2, c2);
-                                out[col * nn + nc + 3 * b2 + c2] += l * dj / d;
+                                out.add(nc + 3 * b2 + c2, col, l * dj / d);
                             }
                         }
                     }
@@ -670,14 +817,13 @@ impl DaeResidual {
 
     /// Columns q, v, s of −∂Q/∂(·) on the F_v rows, by central differences ([`force_step`]) over [`DaeResidual::force_bodies`] (and every stored
     /// impact velocity). Returns 0: these are force evaluations, not right-hand-side calls.
-    fn difference_forces(
+    fn difference_forces<E: Entries>(
         &self,
         t: f64,
         yy: &[f64],
         w: &mut Work,
-        out: &mut [f64],
+        out: &mut E,
     ) -> Result<usize, FormulationError> {
-        let nn = self.n_unknowns();
         let nc = self.n_coordinates();
         let ke = self.energy_index();
         let (q, v, s) = (&yy[..nc], &yy[nc..2 * nc], &yy[2 * nc..ke]);
@@ -718,7 +864,7 @@ impl DaeResidual {
                 self.forces_into(t, &w.q_pert, &w.v_pert, &w.s_pert, &w.sin_cos_pert, target)?;
             }
             for k in 0..nc {
-                out[col * nn + nc + k] -= (w.forces_pert[k] - w.forces[k]) / (2.0 * d);
+                out.add(nc + k, col, -(w.forces_pert[k] - w.forces[k]) / (2.0 * d));
             }
         }
         Ok(0)

@@ -4,8 +4,10 @@
 //! IDA integrates the formulation's residual form
 //! ([`Formulation::residual_form`](crate::formulation::Formulation::residual_form); the DAE:
 //! λ as algebraic unknowns, [`crate::formulation::dae::residual`]) with the analytic iteration
-//! matrix and IDA's dense direct solver; other formulations as Ẏ − f(t, Y)
-//! ([`OdeResidual`]). All `unsafe` code is in `ffi` (private), the one wrapper around
+//! matrix, factored by IDA's dense direct solver on small models and by a sparse LU (faer,
+//! `ffi/sparse.rs`) over the residual form's pattern from [`SPARSE_MIN_UNKNOWNS`] unknowns
+//! on ([`IdaMethod::linear_solver`], [`IdaSettings`](crate::solve::IdaSettings)); other
+//! formulations as Ẏ − f(t, Y) ([`OdeResidual`]). All `unsafe` code is in `ffi` (private), the one wrapper around
 //! `sundials-sys`.
 //!
 //! # Why an `Integrator`, not a driver of its own
@@ -76,6 +78,7 @@ mod ffi;
 use super::error::SolveError;
 use super::integrator::{Attempt, ErrorWeights, Integrator, Start, Trial};
 use super::options::Method;
+use super::radau5::LinearSolver;
 use super::stats::SolverStats;
 use crate::formulation::residual::{OdeResidual, ResidualForm};
 use crate::formulation::{Formulation, FormulationError};
@@ -172,6 +175,23 @@ impl Problem for Equations<'_> {
         }
     }
 
+    fn sparse_jacobian(
+        &mut self,
+        t: f64,
+        c: f64,
+        yy: &[f64],
+        yp: &[f64],
+        values: &mut [f64],
+    ) -> Callback {
+        match self.form.sparse_jacobian(t, yy, yp, c, values) {
+            Ok(calls) => {
+                self.jacobian_rhs_calls += calls as u64;
+                Callback::Ok
+            }
+            Err(e) => self.failed(t, e),
+        }
+    }
+
     fn weights(&mut self, yy: &[f64], ewt: &mut [f64]) -> Callback {
         let (rtol, atol) = (self.weights.rtol, self.weights.atol);
         for (i, (w, y)) in ewt.iter_mut().zip(yy).enumerate() {
@@ -230,7 +250,14 @@ pub struct IdaMethod {
     /// The smallest pivot ratio over the residuals of the last attempt, until the driver takes
     /// it ([`Integrator::take_residual_stages`]).
     stage_pivot_ratio: Option<f64>,
+    /// Dense or sparse iteration matrix ([`IdaMethod::linear_solver`]).
+    linear_solver: LinearSolver,
 }
+
+/// Fewest unknowns of the residual form for which [`LinearSolver::Auto`] takes the sparse LU.
+/// Measured per IDA step on the N-four-bar chain (docs/measurements.md, "IDA with a sparse
+/// LU"): see there for the crossing.
+pub const SPARSE_MIN_UNKNOWNS: usize = 60;
 
 impl IdaMethod {
     /// IDA for a formulation with n states and error weights `weights`, largest step `h_max`.
@@ -254,7 +281,23 @@ impl IdaMethod {
             scratch: Scratch::default(),
             counts: IdaCounts::default(),
             stage_pivot_ratio: None,
+            linear_solver: LinearSolver::Auto,
         }
+    }
+
+    /// How the iteration matrix is factored: [`LinearSolver::Auto`] (the default) takes the
+    /// sparse LU where the residual form has a sparse pattern and at least
+    /// [`SPARSE_MIN_UNKNOWNS`] unknowns, IDA's dense LU otherwise; `Sparse` wherever it has a
+    /// pattern; `Dense` always dense.
+    #[must_use]
+    pub fn linear_solver(mut self, choice: LinearSolver) -> Self {
+        self.linear_solver = choice;
+        self
+    }
+
+    /// Whether IDA factors a sparse iteration matrix (known after the first attempt).
+    pub fn uses_sparse_lu(&self) -> bool {
+        self.ida.as_ref().is_some_and(Ida::is_sparse)
     }
 
     /// Adds IDA's counters since the last call to `stats`.
@@ -304,7 +347,14 @@ impl IdaMethod {
         self.yy = vec![0.0; nn];
         self.yp = vec![0.0; nn];
         self.yq = vec![0.0; nq];
-        self.ida = Some(Ida::new(&differential, nq).map_err(|e| method_failure(t, e))?);
+        let sparse = match self.linear_solver {
+            LinearSolver::Dense => false,
+            LinearSolver::Sparse => true,
+            LinearSolver::Auto => nn >= SPARSE_MIN_UNKNOWNS,
+        };
+        let pattern = if sparse { form.sparse_pattern() } else { None };
+        self.ida =
+            Some(Ida::new(&differential, nq, pattern.as_ref()).map_err(|e| method_failure(t, e))?);
         Ok(())
     }
 

@@ -5,7 +5,7 @@
 //! (`IDAQuadInit`, out of the error test), which IDA alone does not offer.
 //!
 //! [`Ida`] owns a SUNDIALS context, the IDA memory, the vectors Y, Ẏ, the id vector and the
-//! quadratures, a dense matrix and a dense linear solver; [`Drop`] frees them in reverse order of creation. Every
+//! quadratures, the matrix and linear solver (dense, or sparse: `sparse.rs`); [`Drop`] frees them in reverse order of creation. Every
 //! return flag becomes an [`IdaFailure`] with the flag's name, its meaning
 //! ([`flag_meaning`]) and IDA's own message (captured by an error handler pushed on the context,
 //! so nothing is printed on stderr). The callbacks (residual, Jacobian, error weights) call a
@@ -13,6 +13,9 @@
 //! they catch panics (`catch_unwind`) so that no unwinding crosses the C boundary, and answer
 //! IDA's convention: 0 success, > 0 recoverable (IDA retries with a smaller step), < 0 fatal.
 
+mod sparse;
+
+use crate::formulation::sparse_jacobian::SparsePattern;
 use std::ffi::{CStr, c_char, c_int, c_long, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::ptr;
@@ -53,6 +56,15 @@ pub(super) trait Problem {
         yp: &[f64],
         res: &[f64],
         jac: &mut [f64],
+    ) -> Callback;
+    /// ∂F/∂Y + c ∂F/∂Ẏ into `values`, over the sparse pattern [`Ida::new`] was given.
+    fn sparse_jacobian(
+        &mut self,
+        t: f64,
+        c: f64,
+        yy: &[f64],
+        yp: &[f64],
+        values: &mut [f64],
     ) -> Callback;
     /// Error weights (the reciprocals of the tolerated errors; 0 leaves a component out).
     fn weights(&mut self, yy: &[f64], ewt: &mut [f64]) -> Callback;
@@ -156,7 +168,8 @@ unsafe extern "C" {
 /// The pointer handed to IDA as user data during [`Ida::solve_one_step`].
 type ProblemPtr<'a> = &'a mut dyn Problem;
 
-/// An IDA integrator for N unknowns with a dense direct linear solver and a user Jacobian.
+/// An IDA integrator for N unknowns with a direct linear solver (dense, or sparse: `sparse.rs`)
+/// and a user Jacobian.
 pub(super) struct Ida {
     ctx: sun::SUNContext,
     mem: *mut c_void,
@@ -169,6 +182,8 @@ pub(super) struct Ida {
     dkyq: sun::N_Vector,
     mat: sun::SUNMatrix,
     ls: sun::SUNLinearSolver,
+    /// Whether `mat` and `ls` are the sparse matrix and solver (`sparse`), else dense.
+    sparse: bool,
     n: usize,
     nq: usize,
     /// IDA's last error message. Boxed: the error handler holds the String's own address,
@@ -287,6 +302,38 @@ unsafe extern "C" fn jacobian_cb(
     .unwrap_or(-1)
 }
 
+#[allow(clippy::too_many_arguments)] // IDA's signature
+unsafe extern "C" fn sparse_jacobian_cb(
+    t: f64,
+    c: f64,
+    yy: sun::N_Vector,
+    yp: sun::N_Vector,
+    _rr: sun::N_Vector,
+    jac: sun::SUNMatrix,
+    user: *mut c_void,
+    _t1: sun::N_Vector,
+    _t2: sun::N_Vector,
+    _t3: sun::N_Vector,
+) -> c_int {
+    catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: as in `residual_cb`; the sparse matrix was made by `sparse::new_matrix` with
+        // the pattern's number of non-zeros.
+        unsafe {
+            let Some(p) = problem(user) else {
+                return -1;
+            };
+            let n = sun::N_VGetLength(yy) as usize;
+            let Ok(nnz) = usize::try_from(sun::SUNSparseMatrix_NNZ(jac)) else {
+                return -1;
+            };
+            let data = std::slice::from_raw_parts_mut(sun::SUNSparseMatrix_Data(jac), nnz);
+            p.sparse_jacobian(t, c, slice(yy, n), slice(yp, n), data)
+                .code()
+        }
+    }))
+    .unwrap_or(-1)
+}
+
 unsafe extern "C" fn quadrature_cb(
     t: f64,
     yy: sun::N_Vector,
@@ -328,10 +375,16 @@ unsafe extern "C" fn weights_cb(y: sun::N_Vector, ewt: sun::N_Vector, user: *mut
 }
 
 impl Ida {
-    /// Creates the context, memory, vectors, dense matrix and solver for N unknowns and `nq`
+    /// Creates the context, memory, vectors, matrix and linear solver for N unknowns and `nq`
     /// quadratures; `differential` marks the differential unknowns (the rest are algebraic and
-    /// left out of the error test).
-    pub fn new(differential: &[bool], nq: usize) -> Result<Self, IdaFailure> {
+    /// left out of the error test). With a `sparse` pattern (N × N) the iteration matrix is
+    /// sparse and factored by faer ([`Problem::sparse_jacobian`] fills it); without one, or if
+    /// the pattern cannot be analysed, dense ([`Problem::jacobian`]).
+    pub fn new(
+        differential: &[bool],
+        nq: usize,
+        sparse: Option<&SparsePattern>,
+    ) -> Result<Self, IdaFailure> {
         let n = differential.len();
         let mut ida = Ida {
             ctx: ptr::null_mut(),
@@ -344,6 +397,7 @@ impl Ida {
             dkyq: ptr::null_mut(),
             mat: ptr::null_mut(),
             ls: ptr::null_mut(),
+            sparse: false,
             n,
             nq,
             message: Box::new(String::new()),
@@ -407,6 +461,24 @@ impl Ida {
             if ida.mem.is_null() {
                 return Err(failure(sun::IDA_MEM_FAIL, "IDACreate failed".into()));
             }
+            let system = sparse
+                .filter(|p| p.dim() == n)
+                .and_then(sparse::SparseSystem::new);
+            if let Some(system) = system {
+                ida.mat = sparse::new_matrix(&system, ida.ctx);
+                if ida.mat.is_null() {
+                    return Err(failure(sun::IDA_MEM_FAIL, "SUNSparseMatrix failed".into()));
+                }
+                ida.ls = sparse::new_solver(Box::new(system), ida.ctx);
+                if ida.ls.is_null() {
+                    return Err(failure(
+                        sun::IDA_MEM_FAIL,
+                        "the sparse linear solver could not be created".into(),
+                    ));
+                }
+                ida.sparse = true;
+                return Ok(ida);
+            }
             ida.mat = sun::SUNDenseMatrix(len, len, ida.ctx);
             if ida.mat.is_null() {
                 return Err(failure(sun::IDA_MEM_FAIL, "SUNDenseMatrix failed".into()));
@@ -422,6 +494,11 @@ impl Ida {
     /// Number N of unknowns.
     pub fn len(&self) -> usize {
         self.n
+    }
+
+    /// Whether the iteration matrix is sparse (factored by faer) rather than dense.
+    pub fn is_sparse(&self) -> bool {
+        self.sparse
     }
 
     /// Number n_Q of quadratures.
@@ -486,7 +563,12 @@ impl Ida {
                 self.check(sun::IDASetId(self.mem, self.id))?;
                 self.check(sun::IDASetSuppressAlg(self.mem, 1))?;
                 self.check(sun::IDASetLinearSolver(self.mem, self.ls, self.mat))?;
-                self.check(sun::IDASetJacFn(self.mem, Some(jacobian_cb)))?;
+                let jacobian = if self.sparse {
+                    sparse_jacobian_cb
+                } else {
+                    jacobian_cb
+                };
+                self.check(sun::IDASetJacFn(self.mem, Some(jacobian)))?;
                 self.check(sun::IDASetMaxNumSteps(self.mem, 100_000))?;
                 if h_max.is_finite() {
                     self.check(sun::IDASetMaxStep(self.mem, h_max))?;
