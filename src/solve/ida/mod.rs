@@ -2,7 +2,7 @@
 //! [`Integrator`]: `--method ida`, only with the cargo feature `ida`.
 //!
 //! IDA integrates the formulation's residual form
-//! ([`Formulation::residual_form`](crate::formulation::Formulation::residual_form); the DAE:
+//! ([`Formulation::residual_form`]; the DAE:
 //! λ as algebraic unknowns, [`crate::formulation::dae::residual`]) with the analytic iteration
 //! matrix, factored by IDA's dense direct solver on small models and by a sparse LU (faer,
 //! `ffi/sparse.rs`) over the residual form's pattern from [`SPARSE_MIN_UNKNOWNS`] unknowns
@@ -14,12 +14,12 @@
 //! IDA plugs into the same driver ([`Stepper`](crate::solve::Stepper)) as every other method:
 //! one [`Integrator::attempt`] is IDA in one-step mode with the stop time at the driver's step
 //! end, so the driver's clamps (`t_end`, `h_max`, and the grazing guard of
-//! [`Formulation::max_step`](crate::formulation::Formulation::max_step), the per-step
+//! [`Formulation::max_step`], the per-step
 //! maximum step of the clearance joints) reach IDA as stop times. Events are then located by
 //! the driver on IDA's own interpolating polynomial (the one IDA's root finder would use, read
 //! through `IDAGetDky`) with the same root finder, tolerance and sign rules as every other
 //! method, and handled by the same
-//! [`Formulation::apply_event`](crate::formulation::Formulation::apply_event): the impact
+//! [`Formulation::apply_event`]: the impact
 //! velocity δ̇⁽⁻⁾ is stored at the root exactly as with DOP853, and every method finds the same
 //! impacts. A driver of its own with `IDARootInit` would have duplicated the event rules, the
 //! restarts, the sampling, the step hook, the run limits and the result files. After each
