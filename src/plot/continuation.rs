@@ -27,15 +27,16 @@ pub const SUMMARY_COLUMNS: [&str; 6] = [
     "residual",
 ];
 
-/// Palette index of the branch's line and of the brute-force diagram's dots.
+/// Palette index of the branch's line (both stabilities: the stroke tells them apart).
 const BRANCH_COLOUR: usize = 0;
+/// Palette index of the brute-force diagram's dots: grey, under the branch.
 const DIAGRAM_COLOUR: usize = 9;
 /// Half-width (px) of a special point's marker: larger than the diagram's dots and the
 /// line's width, so that it shows over both.
 const MARKER_SIZE: u32 = 9;
 
 /// How each kind of special point is marked: shape, palette index, legend name.
-pub fn marker_of(kind: SpecialKind) -> (Marker, usize, &'static str) {
+fn marker_of(kind: SpecialKind) -> (Marker, usize, &'static str) {
     match kind {
         SpecialKind::Fold => (Marker::Square, 2, "fold"),
         SpecialKind::PeriodDoubling => (Marker::Triangle, 1, "period doubling (PD)"),
@@ -250,7 +251,7 @@ pub fn continuation(
 /// The stretches of a branch drawn solid and dashed, as inclusive row ranges `(first, last)`:
 /// a segment between rows i and i + 1 is solid when both rows are stable (`stable` = 1). A
 /// branch of one point is a stretch of that point.
-pub fn stability_runs(stable: &[f64]) -> [Vec<(usize, usize)>; 2] {
+fn stability_runs(stable: &[f64]) -> [Vec<(usize, usize)>; 2] {
     let is_stable = |i: usize| stable.get(i).is_some_and(|s| *s == 1.0);
     let mut runs = [Vec::new(), Vec::new()];
     if stable.len() == 1 {
