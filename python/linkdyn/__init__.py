@@ -36,7 +36,15 @@ import os
 import warnings
 
 from . import _linkdyn
-from ._analyses import Bifurcation, LyapunovExponent, PhasePortrait, PoincareSection, Spectrum
+from ._analyses import (
+    Bifurcation,
+    Continuation,
+    LyapunovExponent,
+    PeriodicOrbit,
+    PhasePortrait,
+    PoincareSection,
+    Spectrum,
+)
 from ._errors import (
     AnalysisError,
     LinkdynError,
@@ -146,6 +154,8 @@ __all__ = [
     "Spectrum",
     "PhasePortrait",
     "LyapunovExponent",
+    "PeriodicOrbit",
+    "Continuation",
     "LinkdynError",
     "ModelError",
     "SettingsError",

@@ -1,5 +1,6 @@
 """Results of the analyses (``Model.poincare``, ``bifurcation``, ``spectrum``, ``phase``,
-``lyapunov``): plain, frozen records of NumPy arrays, built by the compiled core.
+``lyapunov``, ``orbit``, ``continuation``): plain, frozen records of NumPy arrays, built by
+the compiled core.
 
 Each holds the numbers the matching ``linkdyn`` command writes to its CSV file, bit for bit,
 and the ``provenance`` dict of that file's ``#`` lines (version, model file and hash,
@@ -15,6 +16,8 @@ import numpy.typing as npt
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
+BoolArray = npt.NDArray[np.bool_]
+ComplexArray = npt.NDArray[np.complex128]
 
 
 def _frame(columns: Dict[str, Any], what: str) -> Any:
@@ -298,4 +301,180 @@ class LyapunovExponent:
         )
 
 
-__all__ = ["PoincareSection", "Bifurcation", "Spectrum", "PhasePortrait", "LyapunovExponent"]
+@dataclass(frozen=True, repr=False)
+class PeriodicOrbit:
+    """A periodic orbit found by shooting, with its Floquet multipliers (``linkdyn orbit``:
+    the keys of its ``F.json`` as attributes, and one period of the orbit, its ``F.csv``, as
+    ``t`` and ``samples``).
+
+    ``orbit["rocker.phi"]`` is one column over the period; ``orbit["t"]`` works too.
+    """
+
+    #: Always True: an orbit that is not found raises ``AnalysisError``.
+    converged: bool
+    #: max_i |P(x)_i − x_i|/ε_i of each Newton iterate (ε_i = atol + rtol·|x_i|, units of the
+    #: integration tolerance), the last one the orbit's.
+    residual_history: FloatArray
+    #: Newton iterations done.
+    newton_iterations: int
+    #: The output columns at the section (name → value, SI units).
+    state: Dict[str, float]
+    #: Time of the section (s): the start of the period.
+    t_section_s: float
+    #: Period (s).
+    period_s: float
+    #: Period in driver turns (None without a single driver).
+    period_turns: Optional[float]
+    #: Nontrivial Floquet multipliers by decreasing modulus (the JSON's ``[re, im]`` pairs as
+    #: complex numbers).
+    floquet_multipliers: ComplexArray
+    #: Multipliers removed as trivial (inactive bookkeeping states).
+    trivial_multipliers: int
+    #: Every nontrivial |μ| < 1.
+    stable: bool
+    #: Largest |μ|.
+    spectral_radius: float
+    #: Impacts (contact onsets) over one period, all clearance joints.
+    impacts_per_period: int
+    #: Smallest gap c − |e| over the period (m; negative: the deepest penetration); None
+    #: without clearance joints.
+    min_gap_m: Optional[float]
+    #: |P^K(x) − x| of the orbit re-integrated over one period (units of the integration
+    #: tolerance).
+    closing_error: float
+    #: Wall time of the guess, the shooting and the samples (s).
+    wall_time_s: float
+    #: Solver statistics of every integration, summed.
+    solver_stats: Dict[str, Any]
+    #: Output column names of the samples (the CSV's header after ``t``).
+    names: List[str]
+    #: Sample times over one period from the section (s), every ``dt``.
+    t: FloatArray
+    #: The orbit's samples, shape (len(t), len(names)).
+    samples: FloatArray
+    #: The provenance of the command's files.
+    provenance: Dict[str, Any] = field(compare=False)
+
+    def __getitem__(self, name: str) -> FloatArray:
+        if name == "t":
+            return self.t
+        try:
+            return self.samples[:, self.names.index(name)]
+        except ValueError:
+            raise KeyError(
+                f"no column \"{name}\" in the orbit (columns: t, {', '.join(self.names)})"
+            ) from None
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def to_pandas(self) -> Any:
+        """``t`` and the columns over one period as a ``pandas.DataFrame`` (the command's
+        ``F.csv``)."""
+        data: Dict[str, Any] = {"t": self.t}
+        for k, n in enumerate(self.names):
+            data[n] = self.samples[:, k]
+        return _frame(data, "PeriodicOrbit")
+
+    def __repr__(self) -> str:
+        mu = ", ".join(f"{abs(m):.4g}" for m in self.floquet_multipliers[:3])
+        return (
+            f"<linkdyn.PeriodicOrbit: period {self.period_s:.9g} s, "
+            f"{'stable' if self.stable else 'unstable'} (|mu| {mu}), "
+            f"{self.impacts_per_period} impacts per period>"
+        )
+
+
+@dataclass(frozen=True, repr=False)
+class Continuation:
+    """A branch of periodic orbits continued in one model field (``linkdyn continue``: its
+    ``F.csv``, one row per point in the order of the branch, as arrays, and its ``F.json``'s
+    keys).
+
+    ``branch["rocker.phi"]`` is one state column along the branch; the CSV's other columns
+    (``parameter`` or the field's path, ``period_s``, ``max_abs_mu``, ``stable``,
+    ``impacts_per_period``, ``min_gap_m``, ``residual``, ``special``) work too.
+    """
+
+    #: The continued field (a ``set=`` path, e.g. ``joints.B.clearance``).
+    parameter_name: str
+    #: Output column names at the section (the CSV's columns after the parameter).
+    names: List[str]
+    #: Parameter value of each point (the field's unit in the model file).
+    parameter: FloatArray
+    #: The output columns at the section, shape (len(parameter), len(names)).
+    state: FloatArray
+    #: Period of each point (s).
+    period_s: FloatArray
+    #: Largest |μ| of each point.
+    max_abs_mu: FloatArray
+    #: Every nontrivial |μ| < 1, per point.
+    stable: BoolArray
+    #: Impacts per period of each point, int64.
+    impacts_per_period: IntArray
+    #: Smallest gap of each point (m; NaN without clearance joints).
+    min_gap_m: FloatArray
+    #: Closing error of each point (units of the integration tolerance).
+    residual: FloatArray
+    #: Special point of each row: ``"fold"``, ``"PD"``, ``"NS"``, ``"grazing"`` or ``""``.
+    special: List[str]
+    #: The nontrivial Floquet multipliers of each point (complex arrays).
+    floquet_multipliers: List[ComplexArray]
+    #: The located special points: the JSON's rows (``parameter``, ``state``, ``period_s``,
+    #: ``max_abs_mu``, ``floquet_multipliers`` as ``[re, im]``, ``stable``, …, ``special``).
+    special_points: List[Dict[str, Any]]
+    #: Special points detected between two points but not located: ``[kind, parameter,
+    #: why]``.
+    unlocated: List[Any]
+    #: Why the branch ended: ``{"reason": "reached"}``, ``"turned_back"``, ``"max_points"``
+    #: or ``"failed"`` (with ``message``).
+    end: Dict[str, Any]
+    #: Period in driver turns.
+    period_turns: int
+    #: Wall time (s).
+    wall_time_s: float
+    #: Solver statistics of every integration, summed.
+    solver_stats: Dict[str, Any]
+    #: The provenance of the command's files (settings include the continuation's).
+    provenance: Dict[str, Any] = field(compare=False)
+
+    def __len__(self) -> int:
+        return len(self.parameter)
+
+    def __getitem__(self, name: str) -> Any:
+        if name in ("parameter", self.parameter_name):
+            return self.parameter
+        if name in self.names:
+            return self.state[:, self.names.index(name)]
+        if name in ("period_s", "max_abs_mu", "stable", "impacts_per_period", "min_gap_m",
+                    "residual", "special"):
+            return getattr(self, name)
+        raise KeyError(
+            f"no column \"{name}\" in the branch (columns: {self.parameter_name}, "
+            f"{', '.join(self.names)}, period_s, max_abs_mu, stable, impacts_per_period, "
+            "min_gap_m, residual, special)"
+        )
+
+    def to_pandas(self) -> Any:
+        """The command's ``F.csv`` as a ``pandas.DataFrame`` (``stable`` as 1/0 there,
+        booleans here)."""
+        data: Dict[str, Any] = {self.parameter_name: self.parameter}
+        for k, n in enumerate(self.names):
+            data[n] = self.state[:, k]
+        for n in ("period_s", "max_abs_mu", "stable", "impacts_per_period", "min_gap_m",
+                  "residual", "special"):
+            data[n] = getattr(self, n)
+        return _frame(data, "Continuation")
+
+    def __repr__(self) -> str:
+        kinds = ", ".join(
+            f"{k} at {p:.6g}" for k, p in zip(self.special, self.parameter) if k
+        )
+        return (
+            f"<linkdyn.Continuation in {self.parameter_name}: {len(self.parameter)} points; "
+            f"special points: {kinds or 'none'}; end: {self.end.get('reason')}>"
+        )
+
+
+__all__ = ["PoincareSection", "Bifurcation", "Spectrum", "PhasePortrait", "LyapunovExponent",
+           "PeriodicOrbit", "Continuation"]

@@ -10,7 +10,8 @@ exception              raised for                                  also a      C
                        validated or assembled; a bad ``set=``
 :class:`SettingsError` a run setting out of range or not fitting   ValueError  2
                        the model (``dt``, ``t_end``, ``rtol`` ...)
-:class:`SolverError`   a failed integration (in an analysis too)   RuntimeError  3
+:class:`SolverError`   a failed integration (in an analysis too);  RuntimeError  3
+                       no periodic orbit found (``orbit``)
 :class:`AnalysisError` an analysis that cannot be done on the      ValueError  2
                        given data (too few samples, a bad
                        parameter grid or shard)
@@ -23,7 +24,7 @@ message prefixed ``point I (PARAM = VALUE): `` and the attributes ``point`` (0-b
 and ``parameter`` (the value).
 """
 
-from typing import Optional
+from typing import List, Optional
 
 
 class LinkdynError(Exception):
@@ -56,9 +57,13 @@ class SettingsError(LinkdynError, ValueError):
 
 
 class SolverError(LinkdynError, RuntimeError):
-    """A failed integration. Attribute ``time``: the time reached (s), where known."""
+    """A failed integration, or no periodic orbit found (``Model.orbit``,
+    ``Model.continuation``). Attribute ``time``: the time reached (s), where known; for a
+    periodic orbit not found, ``residual_history``: the Newton residual of each iterate (units
+    of the integration tolerance), as in the message."""
 
     time: Optional[float] = None
+    residual_history: Optional[List[float]] = None
 
 
 class AnalysisError(LinkdynError, ValueError):

@@ -5,7 +5,15 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
-from ._analyses import Bifurcation, LyapunovExponent, PhasePortrait, PoincareSection, Spectrum
+from ._analyses import (
+    Bifurcation,
+    Continuation,
+    LyapunovExponent,
+    PeriodicOrbit,
+    PhasePortrait,
+    PoincareSection,
+    Spectrum,
+)
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -279,6 +287,49 @@ class Model:
         ``renormalise_every_revs`` turns up to ``revs`` (default transient + 10; at least 2
         intervals). Returns λ, its batch-means uncertainty and the running estimate; see
         ``LyapunovExponent``."""
+    def orbit(
+        self,
+        *,
+        period_turns: Optional[int] = None,
+        period: Optional[float] = None,
+        guess_from_turn: int = 3,
+        dt: float = 1e-4,
+        formulation: str = "reduced",
+        method: str = "dop853",
+        rtol: float = 1e-8,
+        atol: float = 1e-10,
+        max_steps: int = 10_000_000,
+        max_wall: Optional[float] = None,
+    ) -> PeriodicOrbit:
+        """A periodic orbit by shooting, with its Floquet multipliers (``linkdyn orbit``):
+        Newton's method on P^K(x) − x = 0 over ``period_turns`` driver turns (default 1; or
+        ``period`` seconds), from the state after ``guess_from_turn`` periods of integration;
+        the monodromy from the variational equations with saltation matrices. Only the
+        reduced formulation (the default here, as on the command line). The command's
+        ``F.json`` keys and one period of the orbit (its ``F.csv``); see ``PeriodicOrbit``.
+        Raises ``SolverError`` (with ``residual_history``) when no orbit is found."""
+    def continuation(
+        self,
+        param: str,
+        from_: float,
+        to: float,
+        *,
+        step: Optional[float] = None,
+        period_turns: int = 1,
+        guess_from_turn: int = 3,
+        dt: float = 1e-4,
+        formulation: str = "reduced",
+        method: str = "dop853",
+        rtol: float = 1e-8,
+        atol: float = 1e-10,
+        max_steps: int = 10_000_000,
+        max_wall: Optional[float] = None,
+    ) -> Continuation:
+        """The periodic orbit continued in the model field ``param`` from ``from_`` to ``to``
+        (``linkdyn continue``): pseudo-arclength steps of at most ``step`` (default
+        |to − from_|/20), folds, period doublings, Neimark–Sacker points and grazings located.
+        The command's ``F.csv`` as arrays and its ``F.json``'s keys; see ``Continuation``. A
+        branch that stops before ``to`` is returned with a ``RuntimeWarning``."""
 
 class Result:
     """A finished run: times, one read-only float64 array per column, events, summary."""

@@ -8,6 +8,7 @@
 //! | `Error::Solve` | `SolverError` (attribute `time`) | 3 |
 //! | `Error::Output`, a failing sample sink | `OutputError` | 4 (2 for a refused target) |
 //! | `Error::Analysis`: the integration or the outputs behind an analysis failed | `SolverError` (attribute `time`) | 3 |
+//! | `Error::Analysis`: no periodic orbit found (`orbit`, `continuation`) | `SolverError` (`time` None, `residual_history`) | 3 |
 //! | `Error::Analysis`, any other (too few samples, a bad grid …) | `AnalysisError` | 2 |
 //!
 //! Messages are the CLI's (`linkdyn/src/cli/mod.rs`, `message`): the error and each cause
@@ -141,6 +142,13 @@ fn build(
         }
         Error::Analysis(AnalysisError::Outputs { t, .. }) => {
             attrs.set_item("time", t)?;
+            ("SolverError", message(e))
+        }
+        // No periodic orbit found: the method failed on valid input (the CLI's exit 3), with
+        // the residual history in the message and as `residual_history`.
+        Error::Analysis(AnalysisError::NoConvergence { history, .. }) => {
+            attrs.set_item("time", None::<f64>)?;
+            attrs.set_item("residual_history", history.clone())?;
             ("SolverError", message(e))
         }
         Error::Analysis(_) => ("AnalysisError", message(e)),

@@ -11,6 +11,7 @@ mod analyses;
 mod document;
 mod errors;
 mod model;
+mod orbit;
 mod result;
 mod settings;
 mod sweep;

@@ -4,6 +4,7 @@
 
 use crate::analyses::{self, LyapunovArgs, PoincareArgs, WindowArgs};
 use crate::errors::{self, Failed};
+use crate::orbit;
 use crate::result::PyResult_;
 use crate::settings::{Solve, columns};
 use crate::sweep::{self, Progress, SweepArgs};
@@ -546,6 +547,81 @@ impl PyModel {
             renormalise_every_revs,
         };
         analyses::lyapunov(py, &self.model, &self.path, &solve, window, args)
+    }
+
+    /// A periodic orbit by shooting, with its Floquet multipliers (`linkdyn orbit`).
+    ///
+    /// Newton's method on P^K(x) − x = 0 over the period map of K = `period_turns` driver
+    /// turns (default 1; or `period` seconds), from the state after `guess_from_turn` periods
+    /// (default 3) of integration; the monodromy matrix from the variational equations with
+    /// saltation matrices at the contact events. Solve settings as `run`, with the command's
+    /// default `formulation="reduced"` (the only one supported). Returns a
+    /// `linkdyn.PeriodicOrbit` (the keys of the command's `F.json`, and one period of the
+    /// orbit as its `F.csv`'s columns); the GIL is released while Rust integrates.
+    ///
+    /// Raises `SettingsError` (a bad period, another formulation), `ModelError`,
+    /// `SolverError` (no orbit found: the message and `residual_history` have the residual
+    /// history; or a failed integration).
+    #[pyo3(signature = (*, period_turns = None, period = None, guess_from_turn = 3, **solve))]
+    fn orbit<'py>(
+        &self,
+        py: Python<'py>,
+        period_turns: Option<i64>,
+        period: Option<f64>,
+        guess_from_turn: i64,
+        solve: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let solve = Solve::from_kwargs_formulation("orbit", solve, "reduced")?;
+        let args = orbit::OrbitArgs {
+            period_turns,
+            period,
+            guess_from_turn,
+        };
+        orbit::periodic_orbit(py, &self.model, &self.path, &solve, args)
+    }
+
+    /// The periodic orbit continued in the model field `param` (a `set=` path, in the field's
+    /// unit in the model file) from `from_` to `to` (`linkdyn continue`): pseudo-arclength
+    /// continuation with steps of at most `step` (default |to − from_|/20), the orbit of
+    /// `period_turns` driver turns (default 1) found first at `from_` from the state after
+    /// `guess_from_turn` periods (default 3); folds, period doublings, Neimark–Sacker points
+    /// and grazings located on the way. Each point reloads the model with the load-time
+    /// overrides and `param=value`. Solve settings as `orbit`. Returns a
+    /// `linkdyn.Continuation` (the command's `F.csv` as arrays and its `F.json`'s keys); the
+    /// GIL is released while Rust integrates.
+    ///
+    /// A branch that stops before `to` (no orbit beyond a point with the smallest step, or
+    /// too many points) is returned, with a `RuntimeWarning` saying where and why (the
+    /// command writes its files and exits 3). Raises `SettingsError` (`to == from_`, a bad
+    /// `step` or period), `ModelError` (an unknown `param` or a value the model refuses,
+    /// prefixed `param PATH: `), `SolverError` (no orbit at `from_`, or a failed integration).
+    #[pyo3(signature = (param, from_, to, *, step = None, period_turns = 1, guess_from_turn = 3,
+        **solve))]
+    #[allow(clippy::too_many_arguments)]
+    fn continuation<'py>(
+        &self,
+        py: Python<'py>,
+        param: String,
+        from_: f64,
+        to: f64,
+        step: Option<f64>,
+        period_turns: i64,
+        guess_from_turn: i64,
+        solve: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let solve = Solve::from_kwargs_formulation("continuation", solve, "reduced")?;
+        let text = py
+            .detach(|| self.source_text())
+            .map_err(|e| errors::to_py(py, Error::from(e), None))?;
+        let args = orbit::ContinuationArgs {
+            param,
+            from: from_,
+            to,
+            step,
+            period_turns,
+            guess_from_turn,
+        };
+        orbit::branch(py, &self.model, &self.path, &text, &solve, args)
     }
 
     fn __repr__(&self) -> String {

@@ -88,6 +88,25 @@ impl Solve {
         Ok(solve)
     }
 
+    /// The solve settings of a method whose command defaults to another formulation
+    /// (`orbit` and `continue` default to `"reduced"`): [`Solve::from_kwargs`], with
+    /// `formulation` set to `default` where the keywords do not give one.
+    pub fn from_kwargs_formulation(
+        method: &str,
+        kwargs: Option<&Bound<'_, PyDict>>,
+        default: &str,
+    ) -> PyResult<Solve> {
+        let mut solve = Solve::from_kwargs(method, kwargs)?;
+        let given = match kwargs {
+            Some(k) => k.contains("formulation")?,
+            None => false,
+        };
+        if !given {
+            solve.formulation = default.to_string();
+        }
+        Ok(solve)
+    }
+
     /// The library's options, checked as the command line checks them (the method first, then
     /// the formulation; the rest in `Simulation::new`). The end time is the default (2 turns).
     pub fn options(&self) -> Result<SimulationOptions, Error> {

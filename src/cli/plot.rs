@@ -4,6 +4,7 @@
 
 use super::{EXIT_BAD_INPUT, EXIT_OUTPUT, Failure};
 use clap::{Args, Subcommand};
+use linkdyn::plot::continuation::{Branch, continuation};
 use linkdyn::plot::{Figure, PlotError, SpectrumOptions, Table, figures, render};
 use std::path::{Path, PathBuf};
 
@@ -211,6 +212,23 @@ enum Kind {
         #[command(flatten)]
         common: Common,
     },
+    /// A branch of periodic orbits from `linkdyn continue` (stable solid, unstable dashed,
+    /// special points marked), optionally over a `linkdyn bifurcation` diagram of the same
+    /// parameter.
+    Continuation {
+        /// Branch CSV of `linkdyn continue`.
+        file: PathBuf,
+        /// Bifurcation-diagram CSV (`index,<parameter>,turn,<column>`) of the same parameter,
+        /// drawn under the branch.
+        #[arg(long, value_name = "BIFURCATION_CSV")]
+        over: Option<PathBuf>,
+        /// The branch's state column drawn (e.g. `rocker.phi`). Default: the diagram's
+        /// column; required without --over.
+        #[arg(long, value_name = "NAME")]
+        coordinate: Option<String>,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Running estimate of the largest Lyapunov exponent (`t,lambda`) against time.
     Lyapunov {
         /// Lyapunov-history CSV.
@@ -366,6 +384,24 @@ pub fn run(args: &PlotArgs) -> Result<(), Failure> {
             linkdyn::animate::write_still(&picture, &common.out)?;
             eprintln!("{}", common.out.display());
             return Ok(());
+        }
+        Kind::Continuation {
+            file,
+            over,
+            coordinate,
+            common,
+        } => {
+            // The legend names stability and special points, not files.
+            if !common.label.is_empty() {
+                return Err(Failure {
+                    code: EXIT_BAD_INPUT,
+                    message: "--label: not available for `plot continuation` (its legend names stability and special points)".into(),
+                });
+            }
+            let branch = Branch::read(file)?;
+            let diagram = over.as_deref().map(read).transpose()?;
+            let fig = continuation(&branch, diagram.as_ref(), coordinate.as_deref())?;
+            (fig, common)
         }
         Kind::Lyapunov { file, common } => {
             let table = read(file)?;

@@ -39,14 +39,14 @@ fn points(x: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
     x.iter().copied().zip(y.iter().copied()).collect()
 }
 
-fn scaled_points(x: &[f64], fx: f64, y: &[f64], fy: f64) -> Vec<(f64, f64)> {
+pub(super) fn scaled_points(x: &[f64], fx: f64, y: &[f64], fy: f64) -> Vec<(f64, f64)> {
     x.iter().zip(y).map(|(a, b)| (a * fx, b * fy)).collect()
 }
 
 /// The unit an axis shows for a column in SI `unit` and the factor from the file's SI values to it: mm
 /// (× 1000) for lengths whose finite values all lie within ±[`MM_BELOW_M`] m, otherwise the
 /// column's own unit (× 1).
-fn display_unit<'a>(
+pub(super) fn display_unit<'a>(
     unit: Option<&'static str>,
     data: impl IntoIterator<Item = &'a [f64]>,
 ) -> (f64, Option<&'static str>) {
@@ -66,14 +66,14 @@ fn display_unit<'a>(
 }
 
 /// `name (unit)`, or the bare name without a unit.
-fn label_with(name: &str, unit: Option<&str>) -> String {
+pub(super) fn label_with(name: &str, unit: Option<&str>) -> String {
     match unit {
         Some(u) => format!("{name} ({u})"),
         None => name.to_string(),
     }
 }
 
-fn no_rows(t: &Table) -> PlotError {
+pub(super) fn no_rows(t: &Table) -> PlotError {
     PlotError::NoData {
         path: t.path.display().to_string(),
         reason: "no data rows".into(),

@@ -1,6 +1,6 @@
 //! Figures (PNG or SVG) from plain data: time histories, the journal-centre orbit in its
-//! clearance circle, Poincaré sections, bifurcation diagrams, spectra, phase portraits and
-//! Lyapunov histories.
+//! clearance circle, Poincaré sections, bifurcation diagrams, spectra, phase portraits,
+//! Lyapunov histories and continued branches of periodic orbits.
 //!
 //! The path is data → [`Figure`] → file:
 //!
@@ -24,6 +24,7 @@
 //! # Ok::<(), linkdyn::plot::PlotError>(())
 //! ```
 
+pub mod continuation;
 mod error;
 pub mod figures;
 pub mod font;
@@ -80,6 +81,27 @@ pub enum Style {
         /// Radius in pixels.
         radius: u32,
     },
+    /// A marker of this shape at each point: points that stand out from the data (special
+    /// points of a branch), each kind with its own shape so that they differ in greyscale.
+    Marker {
+        /// The shape.
+        shape: Marker,
+        /// Half the marker's width in pixels.
+        size: u32,
+    },
+}
+
+/// The shape of a [`Style::Marker`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Marker {
+    /// A filled square.
+    Square,
+    /// A filled triangle, point up.
+    Triangle,
+    /// A filled diamond (a square on its corner, taller than wide).
+    Diamond,
+    /// An upright cross (×) of two strokes.
+    Cross,
 }
 
 /// One data series of a figure.

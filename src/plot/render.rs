@@ -5,7 +5,7 @@
 //! figure appears whole or not at all.
 
 use super::font::{FAMILY, ensure_registered};
-use super::{Dash, Figure, PlotError, Style};
+use super::{Dash, Figure, Marker, PlotError, Style};
 use crate::output::AtomicFile;
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
@@ -475,6 +475,42 @@ where
                     labelled = true;
                 }
             }
+            Style::Marker { shape, size } => {
+                let r = i32::try_from(size).unwrap_or(8);
+                let shown = s.points.iter().filter(|p| drawable(p) && inside(p));
+                let fill = colour.filled();
+                let stroke = colour.stroke_width(3);
+                // Two strokes for a cross, one filled polygon for the other shapes.
+                let cross = |at| {
+                    EmptyElement::at(at)
+                        + PathElement::new(vec![(-r, -r), (r, r)], stroke)
+                        + PathElement::new(vec![(-r, r), (r, -r)], stroke)
+                };
+                let corners = marker_outline(shape, r);
+                let ann = if shape == Marker::Cross {
+                    chart.draw_series(shown.map(|&p| cross(p)))
+                } else {
+                    chart.draw_series(
+                        shown.map(|&p| EmptyElement::at(p) + Polygon::new(corners.clone(), fill)),
+                    )
+                }
+                .map_err(|e| e.to_string())?;
+                if let Some(name) = &s.name {
+                    let ann = ann.label(name.as_str());
+                    if shape == Marker::Cross {
+                        ann.legend(move |(lx, ly)| {
+                            EmptyElement::at((lx + 15, ly))
+                                + PathElement::new(vec![(-r, -r), (r, r)], stroke)
+                                + PathElement::new(vec![(-r, r), (r, -r)], stroke)
+                        });
+                    } else {
+                        ann.legend(move |(lx, ly)| {
+                            EmptyElement::at((lx + 15, ly)) + Polygon::new(corners.clone(), fill)
+                        });
+                    }
+                    labelled = true;
+                }
+            }
         }
         any_name |= labelled;
     }
@@ -489,6 +525,18 @@ where
             .map_err(|e| e.to_string())?;
     }
     Ok(())
+}
+
+/// The corners (pixel offsets from the centre, y down) of a filled marker `r` pixels from
+/// its centre to its side: one SVG `<polygon>` each. A cross has none (it is two strokes).
+fn marker_outline(shape: Marker, r: i32) -> Vec<(i32, i32)> {
+    let h = r + r / 3;
+    match shape {
+        Marker::Square => vec![(-r, -r), (r, -r), (r, r), (-r, r)],
+        Marker::Triangle => vec![(0, -h), (r, r), (-r, r)],
+        Marker::Diamond => vec![(0, -h), (r, 0), (0, h), (-r, 0)],
+        Marker::Cross => Vec::new(),
+    }
 }
 
 /// The parts of the polyline `points` (all drawable) inside the ranges `(x, y)`, each a run

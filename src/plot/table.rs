@@ -89,6 +89,60 @@ impl Table {
         })
     }
 
+    /// Reads `path` as [`Table::read`] does, except that the column called `text` holds words
+    /// (a continuation file's `special`: `PD`, `fold`, or empty), returned beside the table
+    /// one per row with the row's line number (1-based); the table keeps the other columns.
+    pub fn read_with_text(
+        path: &Path,
+        text: &str,
+    ) -> Result<(Table, Vec<(usize, String)>), PlotError> {
+        let content = std::fs::read_to_string(path).map_err(|e| PlotError::Read {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        // The text column is cut out of every row, line for line (so that a parse error
+        // still names the file's line), and the rest parsed as numbers.
+        let mut at: Option<usize> = None;
+        let mut words = Vec::new();
+        let mut kept = String::with_capacity(content.len());
+        for (k, line) in content.lines().enumerate() {
+            let bare = line.trim_end_matches('\r');
+            if bare.starts_with('#') || bare.trim().is_empty() {
+                kept.push_str(bare);
+                kept.push('\n');
+                continue;
+            }
+            let mut fields: Vec<&str> = bare.split(',').collect();
+            match at {
+                None => {
+                    let Some(j) = fields.iter().position(|f| f.trim() == text) else {
+                        return Err(PlotError::MissingColumn {
+                            path: path.display().to_string(),
+                            column: text.to_string(),
+                            available: fields
+                                .iter()
+                                .map(|f| f.trim())
+                                .collect::<Vec<_>>()
+                                .join(","),
+                        });
+                    };
+                    at = Some(j);
+                    fields.remove(j);
+                }
+                // A row cut short before the text column reads as an empty word; the
+                // numbers are checked by `parse`.
+                Some(j) if j < fields.len() => {
+                    words.push((k + 1, fields.remove(j).trim().to_string()));
+                }
+                Some(_) => words.push((k + 1, String::new())),
+            }
+            kept.push_str(&fields.join(","));
+            kept.push('\n');
+        }
+        let table = Table::parse(path, &kept)?;
+        Ok((table, words))
+    }
+
     /// Number of data rows.
     pub fn rows(&self) -> usize {
         self.columns.first().map_or(0, Vec::len)

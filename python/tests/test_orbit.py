@@ -1,0 +1,204 @@
+"""``Model.orbit`` and ``Model.continuation`` give ``linkdyn orbit`` and ``linkdyn continue``'s
+numbers, bit for bit, and refuse bad input with the command line's messages.
+
+Both sides call the same library functions (``linkdyn::studies::orbit`` and
+``::continuation``) with the same settings, and the files hold every number in its shortest
+round-trip form, so any difference is a bug (a different default, a lost override, a lossy
+conversion), never rounding. The cases are those of docs/periodic_orbits.md: the reference
+four-bar at 3500 rpm, c = 0.44 mm (a stable period-1 orbit with one impact per turn), and a
+short branch in the clearance through its first period doubling (c ≈ 0.4150 mm).
+"""
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+import linkdyn
+from cli_files import first_difference, read, same_bits
+from test_analysis_errors import cli_spelling
+
+MODEL = "models/farahan2016.toml"
+SPEED = {"drivers.motor.speed_rpm": 3500}
+# The worked example of docs/periodic_orbits.md: 3500 rpm, c = 0.44 mm.
+EXAMPLE = {"drivers.motor.speed_rpm": 3500, "joints.B.clearance": 0.00044}
+TOL = ["--rtol", "1e-10", "--atol", "1e-12"]
+TOL_KW = dict(rtol=1e-10, atol=1e-12)
+
+
+def without_volatile(d):
+    """The JSON minus what differs between two runs or two builds: wall times and the
+    version string."""
+    d = dict(d)
+    d.pop("wall_time_s", None)
+    d["provenance"] = dict(d["provenance"])
+    d["provenance"].pop("linkdyn_version", None)
+    return d
+
+
+def test_orbit_is_the_cli_s_bit_for_bit(cli, tmp_path):
+    out = tmp_path / "o.json"
+    code, _, err = cli("orbit", MODEL, "--set", "drivers.motor.speed_rpm=3500", "--set",
+                       "joints.B.clearance=0.00044", *TOL, "--out", str(out))
+    assert code == 0, err
+    js = json.loads(out.read_text())
+    o = linkdyn.load(MODEL, set=EXAMPLE).orbit(**TOL_KW)
+    assert isinstance(o, linkdyn.PeriodicOrbit)
+    # Every key of F.json is an attribute with the same value; the multipliers' [re, im]
+    # pairs are complex numbers and the residual history an array.
+    for key, value in js.items():
+        got = getattr(o, key)
+        if key == "floquet_multipliers":
+            assert got.dtype == np.complex128
+            assert same_bits(got.real, [z[0] for z in value]), key
+            assert same_bits(got.imag, [z[1] for z in value]), key
+        elif key == "residual_history":
+            assert same_bits(got, value), key
+        elif key not in ("wall_time_s", "provenance"):
+            assert got == value, f"{key}: CLI {value!r} vs Python {got!r}"
+    assert without_volatile(js)["provenance"] == without_volatile(
+        {"provenance": o.provenance})["provenance"]
+    assert o.wall_time_s > 0
+    # The orbit over one period: the command's F.csv, column for column.
+    _, names, columns = read(out.with_suffix(".csv"))
+    assert names == ["t"] + o.names
+    for n in names:
+        assert same_bits(columns[n], o[n]), f"{n}: {first_difference(columns[n], o[n])}"
+    assert o.samples.shape == (len(o.t), len(o.names))
+    # What the numbers say (docs/periodic_orbits.md, worked example): period 60/3500 s, a
+    # stable orbit with one impact per turn, closed to within the Newton tolerance.
+    assert o.converged and o.stable and o.impacts_per_period == 1
+    assert o.period_s == pytest.approx(60 / 3500, rel=1e-14)
+    assert o.state["rocker.phi"] == pytest.approx(1.4529894458, abs=1e-8)
+    assert np.all(np.abs(o.floquet_multipliers) < 1)
+    assert o.closing_error < 1000
+
+
+def test_continuation_is_the_cli_s_bit_for_bit(cli, tmp_path):
+    out = tmp_path / "c.csv"
+    args = ["--param", "joints.B.clearance", "--from", "0.0004155", "--to", "0.000414",
+            "--step", "0.0000005"]
+    code, stdout, err = cli("continue", MODEL, "--set", "drivers.motor.speed_rpm=3500",
+                            *args, *TOL, "--out", str(out))
+    assert code == 0, err
+    b = linkdyn.load(MODEL, set=SPEED).continuation(
+        "joints.B.clearance", 0.0004155, 0.000414, step=0.0000005, **TOL_KW)
+    assert isinstance(b, linkdyn.Continuation)
+    _, names, columns = read(out)
+    assert names[0] == b.parameter_name == "joints.B.clearance"
+    assert names[1:len(b.names) + 1] == b.names
+    assert same_bits(columns[names[0]], b.parameter)
+    for n in b.names:
+        assert same_bits(columns[n], b[n]), f"{n}: {first_difference(columns[n], b[n])}"
+    for n in ("period_s", "max_abs_mu", "min_gap_m", "residual"):
+        assert same_bits(columns[n], b[n]), f"{n}: {first_difference(columns[n], b[n])}"
+    assert b.stable.dtype == np.bool_
+    assert list(columns["stable"]) == [1.0 if s else 0.0 for s in b.stable]
+    assert same_bits(columns["impacts_per_period"], b.impacts_per_period)
+    assert columns["special"] == b.special
+    # F.json's keys.
+    js = json.loads(out.with_suffix(".json").read_text())
+    assert js["points"] == len(b)
+    for key in ("special_points", "unlocated", "end", "period_turns", "solver_stats"):
+        assert getattr(b, key) == js[key], key
+    assert without_volatile(js)["provenance"] == without_volatile(
+        {"provenance": b.provenance})["provenance"]
+    # Each point's multipliers: the special points' are in the JSON; the largest modulus is
+    # the CSV's max_abs_mu.
+    for row in js["special_points"]:
+        k = int(np.flatnonzero(b.parameter == row["parameter"])[0])
+        mu = b.floquet_multipliers[k]
+        assert same_bits(mu.real, [z[0] for z in row["floquet_multipliers"]])
+        assert same_bits(mu.imag, [z[1] for z in row["floquet_multipliers"]])
+    assert np.array_equal([np.abs(m).max() for m in b.floquet_multipliers], b.max_abs_mu)
+    # The stretch holds the period doubling at 0.4150 mm (docs/periodic_orbits.md): stable
+    # before it, unstable after, as the command printed.
+    assert b.special.count("PD") == 1, b.special
+    k = b.special.index("PD")
+    assert b.stable[:k].all() and not b.stable[k + 1:].any()
+    assert f"PD at joints.B.clearance = {float(b.parameter[k])!r}" in stdout
+    assert b.end == {"reason": "reached"} and b.parameter[-1] == 0.000414
+    df = b.to_pandas() if _has_pandas() else None
+    if df is not None:
+        assert list(df.columns) == names
+
+
+def _has_pandas() -> bool:
+    try:
+        import pandas  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def orbit_call(**kw):
+    return lambda: linkdyn.load(MODEL, set=SPEED).orbit(**kw)
+
+
+def branch_call(param="joints.B.clearance", from_=0.00044, to=0.00043, **kw):
+    return lambda: linkdyn.load(MODEL, set=SPEED).continuation(param, from_, to, **kw)
+
+
+ORBIT = ["orbit", MODEL, "--set", "drivers.motor.speed_rpm=3500"]
+BRANCH = ["continue", MODEL, "--set", "drivers.motor.speed_rpm=3500", "--param",
+          "joints.B.clearance", "--from", "0.00044", "--to", "0.00043"]
+
+CASES = [
+    ("orbit-dae", ORBIT + ["--formulation", "dae"], "json", orbit_call(formulation="dae"),
+     linkdyn.SettingsError),
+    ("orbit-period-0", ORBIT + ["--period-turns", "0"], "json", orbit_call(period_turns=0),
+     linkdyn.SettingsError),
+    ("orbit-negative-period", ORBIT + ["--period", "-0.1"], "json",
+     orbit_call(period=-0.1), linkdyn.SettingsError),
+    ("orbit-not-found", ORBIT + ["--guess-from-turn", "0", "--rtol", "1e-10"], "json",
+     orbit_call(guess_from_turn=0, rtol=1e-10), linkdyn.SolverError),
+    ("branch-unknown-param", BRANCH[:5] + ["joints.Q.clearance"] + BRANCH[6:], "csv",
+     branch_call(param="joints.Q.clearance"), linkdyn.ModelError),
+    ("branch-step", BRANCH + ["--step=-1e-6"], "csv", branch_call(step=-1e-6),
+     linkdyn.SettingsError),
+    ("branch-dae", BRANCH + ["--formulation", "dae"], "csv", branch_call(formulation="dae"),
+     linkdyn.SettingsError),
+]
+
+
+@pytest.mark.parametrize("args, ext, call, cls", [c[1:] for c in CASES],
+                         ids=[c[0] for c in CASES])
+def test_bad_input_raises_the_cli_s_error(cli, tmp_path, args, ext, call, cls):
+    code, _, err = cli(*args, "--out", str(tmp_path / f"a.{ext}"))
+    lines = [l for l in err.splitlines() if l.startswith("error: ")]
+    assert len(lines) == 1, err
+    with pytest.raises(linkdyn.LinkdynError) as info:
+        call()
+    e = info.value
+    assert type(e) is cls, f"{type(e).__name__}: {e}"
+    assert code == (3 if isinstance(e, RuntimeError) else 2), err
+    assert cli_spelling(e) == lines[0][len("error: "):]
+    if isinstance(e, linkdyn.SolverError):
+        # No orbit: the residual history of the message, as numbers.
+        assert e.time is None and len(e.residual_history) >= 2
+        shown = ", ".join(re.sub(r"e\+?(-?)0*(\d)", r"e\1\2", f"{r:.3e}")
+                          for r in e.residual_history)
+        assert shown in str(e), (shown, str(e))
+
+
+def test_bad_arguments_of_the_python_methods():
+    model = linkdyn.load(MODEL, set=SPEED)
+    with pytest.raises(linkdyn.SettingsError) as info:
+        model.continuation("joints.B.clearance", 4e-4, 4e-4)
+    assert str(info.value) == (
+        "to: expected a value other than from_ 0.0004 (a branch needs a range)")
+    assert info.value.option == "to"
+    with pytest.raises(linkdyn.SettingsError) as info:
+        model.orbit(period_turns=1, period=0.01)
+    assert str(info.value) == "period: give `period_turns` or `period`, not both"
+    with pytest.raises(linkdyn.SettingsError) as info:
+        model.orbit(guess_from_turn=-1)
+    assert str(info.value) == (
+        "guess_from_turn: expected a whole number of periods ≥ 0, got -1")
+    with pytest.raises(TypeError) as info:
+        model.orbit(revs=2)
+    assert str(info.value) == "orbit() got an unexpected keyword argument 'revs'"
+    with pytest.raises(TypeError) as info:
+        model.continuation("joints.B.clearance", 4e-4, 3e-4, t_end=1.0)
+    assert str(info.value) == "continuation() got an unexpected keyword argument 't_end'"
