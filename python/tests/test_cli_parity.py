@@ -76,6 +76,23 @@ def test_columns_and_summary_are_the_cli_s_bit_for_bit(cli, tmp_path, args, kwar
     summaries_match(json.loads(out.with_suffix(".json").read_text()), result.summary, case)
 
 
+@pytest.mark.parametrize(
+    "model",
+    ["models/slider_crank_lubricated.toml", "models/slider_crank_prismatic_clearance.toml"],
+    ids=["lubricated-pin", "slider-in-guide-with-clearance"],
+)
+def test_the_newer_joint_models_run_from_python_as_from_the_cli(cli, tmp_path, model):
+    """A lubricated revolute joint (film columns, film dissipation in --energy) and a
+    prismatic-clearance joint (corner contact columns, impact log): the same columns, bits
+    and summary from Python as from the command line."""
+    out = tmp_path / "r.csv"
+    code, _, err = cli("run", model, "--revs", "0.25", "--energy", "--out", str(out))
+    assert code == 0, err
+    result = linkdyn.load(model).run(revs=0.25, energy=True)
+    assert_columns_identical(read_csv(out), result, model)
+    summaries_match(json.loads(out.with_suffix(".json").read_text()), result.summary, model)
+
+
 def test_saved_csv_is_the_cli_s_byte_for_byte(cli, tmp_path):
     out = tmp_path / "cli.csv"
     code, _, err = cli("run", MODEL, "--revs", "0.5", "--out", str(out))
