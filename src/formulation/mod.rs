@@ -319,6 +319,23 @@ pub enum FormulationError {
         /// The limit 0.1 R_J (m).
         limit: f64,
     },
+    /// At the assembled position (t = 0) a corner of a prismatic-clearance joint's slider is on
+    /// or past one of the guide's end stops: the slider must start strictly between them.
+    #[error(
+        "prismatic-clearance joint \"{joint}\": at the assembled position (t = 0) the slider's corner {corner} is {past:.6e} m past `{field}` ({stop:e} m along the axis); expected the slider strictly between the guide's end stops, since a contact that is under way at t = 0 has no impact velocity to scale its damping: move `{field}` or the slider"
+    )]
+    SliderPastGuideEnd {
+        /// Joint name.
+        joint: String,
+        /// The corner (c1 … c4).
+        corner: &'static str,
+        /// The field of the end stop it is past: `guide_start` or `guide_end`.
+        field: &'static str,
+        /// The stop's position along the axis (m).
+        stop: f64,
+        /// How far past the stop the corner is (m, ≥ 0).
+        past: f64,
+    },
     /// The constraint violation at an accepted step end or an output sample exceeded its bound (see
     /// [`dae::violation_limit`]): the trajectory has left the linkage's configuration space
     /// and no result computed from it can be trusted.
