@@ -277,3 +277,88 @@ fn body_point_acceleration(frame: Frame, p: &PointState, acc: &[f64]) -> [f64; 2
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A slider (L = 0.1, w = 0.04) on a guide body turned by 0.3 rad with its axis at 30° in
+    /// the guide's frame and stops at s₀ = −0.07, s₁ = 0.08: the sites are c1 … c4 then e1 … e4,
+    /// and each end-stop site's δ is, by hand, the corner's position along the turned axis
+    /// minus s₁ (front corners) or s₀ minus it (rear corners).
+    #[test]
+    fn end_stop_sites_measure_the_corners_past_the_stops() {
+        let text = r#"
+[model]
+name = "stops"
+[settings]
+gravity = [0.0, 0.0]
+[[bodies]]
+name = "guide"
+mass = 1.0
+inertia = 0.01
+points = { O = [0.0, 0.0] }
+initial = { x = 0.0, y = 0.0, phi = 0.3 }
+[[bodies]]
+name = "slider"
+mass = 1.0
+inertia = 0.001
+points = { C = [0.0, 0.0] }
+initial = { x = 0.0, y = 0.0, phi = 0.3 }
+[[joints]]
+name = "rail"
+type = "prismatic-clearance"
+body_a = "guide"
+point_a = "O"
+body_b = "slider"
+point_b = "C"
+axis = [0.8660254037844386, 0.5]
+angle = 0.0
+clearance = 1e-3
+slider_length = 0.1
+slider_width = 0.04
+stiffness = 1e9
+guide_start = -0.07
+guide_end = 0.08
+"#;
+        let model =
+            crate::model::load_str(text, "stops.toml", &[]).unwrap_or_else(|e| panic!("{e}"));
+        let Some(JointKind::PrismaticClearance(spec)) = model.joints.first().map(|j| &j.kind)
+        else {
+            panic!("no prismatic-clearance joint");
+        };
+        let names: Vec<&str> = site_names(spec).collect();
+        assert_eq!(names, SITE_NAMES.to_vec());
+        let sites = CornerSite::of_joint(&model, JointId(0));
+        assert_eq!(sites.len(), 8);
+        // Slider centre moved by (0.01, −0.02), slider turned 0.3 + 0.01 rad; guide at rest.
+        let (phi_g, phi_s) = (0.3_f64, 0.31_f64);
+        let q = [0.0, 0.0, phi_g, 0.01, -0.02, phi_s];
+        let v = [0.0; 6];
+        let u = rotate(phi_g.sin_cos(), [0.866_025_403_784_438_6, 0.5]);
+        // The slider's long direction: the axis in its own frame (angle 0), turned by φ_s.
+        let long = rotate(phi_s.sin_cos(), [0.866_025_403_784_438_6, 0.5]);
+        let short = perp(long);
+        for site in sites.iter().filter(|s| s.is_end_stop()) {
+            let i = site.corner - 4;
+            let (x, y) = [(-0.05, -0.02), (0.05, -0.02), (0.05, 0.02), (-0.05, 0.02)][i];
+            let c = [
+                0.01 + x * long[0] + y * short[0],
+                -0.02 + x * long[1] + y * short[1],
+            ];
+            let along = c[0] * u[0] + c[1] * u[1];
+            let by_hand = if matches!(i, 1 | 2) {
+                along - 0.08
+            } else {
+                -0.07 - along
+            };
+            let delta = site.state_alone(&q, &v, 0.0).kinematics.delta;
+            assert!(
+                (delta - by_hand).abs() < 1e-15,
+                "{}: δ = {delta}, by hand {by_hand}",
+                SITE_NAMES[site.corner]
+            );
+            assert_eq!(site.normal_is_forward(), matches!(i, 1 | 2));
+        }
+    }
+}
