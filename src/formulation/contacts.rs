@@ -446,8 +446,13 @@ impl ContactSites {
                 return Err(FormulationError::PenetrationTooDeep {
                     t,
                     joint: format!(
-                        "{} (corner {})",
+                        "{} ({} {})",
                         joint_name(c.joint),
+                        if c.is_end_stop() {
+                            "end stop"
+                        } else {
+                            "corner"
+                        },
                         super::corner_contacts::SITE_NAMES
                             [c.corner.min(super::corner_contacts::SITE_NAMES.len() - 1)]
                     ),

@@ -307,7 +307,7 @@ pub enum FormulationError {
     /// A clearance joint penetrated so deep that no contact law holds: the linkage is being
     /// driven through the joint (a model that cannot move as built, or absurd forces).
     #[error(
-        "penetration of clearance joint \"{joint}\" reached {penetration:.3e} m at t = {t:.9} s, beyond {limit:.3e} m (a tenth of the journal radius) where no contact law holds: the linkage is being driven through the joint; check its geometry, driver and loads"
+        "penetration of clearance joint \"{joint}\" reached {penetration:.3e} m at t = {t:.9} s, beyond {limit:.3e} m (the deepest its contact law is used at: a tenth of the journal radius, less for Johnson's law, 1 % of a slider's length for its corners and end stops) where no contact law holds: the linkage is being driven through the joint; check its geometry, driver and loads"
     )]
     PenetrationTooDeep {
         /// Time (s).
@@ -316,7 +316,8 @@ pub enum FormulationError {
         joint: String,
         /// Penetration δ (m).
         penetration: f64,
-        /// The limit 0.1 R_J (m).
+        /// The limit (m): 0.1 R_J, less for Johnson's law, 1 % of the slider length for a
+        /// corner or end stop.
         limit: f64,
     },
     /// At the assembled position (t = 0) a corner of a prismatic-clearance joint's slider is on
