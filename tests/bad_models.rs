@@ -214,8 +214,20 @@ const CASES: &[(&str, &str)] = &[
         "tests/bad_models/prismatic_clearance_corner_on_the_wall.toml:67:16: joints.rail.initial_tilt: the initial offset 0e0 m and tilt 1.3e-2 rad put a slider corner 5.178729e-4 m from its centred position towards a guide surface, not less than the clearance 5.000000e-4 m; expected every corner strictly inside the guide, since a contact that is under way at t = 0 has no impact velocity to scale its damping",
     ),
     (
+        "prismatic_clearance_guide_end_before_start",
+        "tests/bad_models/prismatic_clearance_guide_end_before_start.toml:68:13: joints.rail.guide_end: the guide end 1e-1 m is not after the guide start 5e-1 m; expected guide_end > guide_start (positions along the axis from the guide's point)",
+    ),
+    (
+        "prismatic_clearance_guide_shorter_than_slider",
+        "tests/bad_models/prismatic_clearance_guide_shorter_than_slider.toml:68:13: joints.rail.guide_end: the guide between guide_start = 3.6e-1 m and guide_end = 4.3e-1 m is 7.000000e-2 m long, not longer than the slider (8.000000e-2 m); expected guide_end − guide_start > slider_length",
+    ),
+    (
         "prismatic_clearance_line_law",
         "tests/bad_models/prismatic_clearance_line_law.toml:72:7: joints.rail.contact.law: contact law \"liu\" is a line contact of a cylinder in a cylindrical hole and has no meaning for a slider's corner on a flat guide surface; expected a point-contact law (lankarani-nikravesh, hunt-crossley, flores or hertz) on prismatic-clearance joint \"rail\"",
+    ),
+    (
+        "prismatic_clearance_slider_past_guide_end",
+        "tests/bad_models/prismatic_clearance_slider_past_guide_end.toml: prismatic-clearance joint \"rail\": at the assembled position (t = 0) the slider's corner c2 is 2.000000e-2 m past `guide_end` (4.2e-1 m along the axis); expected the slider strictly between the guide's end stops, since a contact that is under way at t = 0 has no impact velocity to scale its damping: move `guide_end` or the slider",
     ),
     (
         "prismatic_clearance_without_slider_length",

@@ -87,7 +87,8 @@ class ModelBuilder:
         """``[[joints]]`` of ``type`` "revolute", "prismatic", "clearance" or
         "prismatic-clearance", with the fields of that type (``body_a``, ``point_a``, … or
         ``bearing``, ``journal``, ``clearance``, ``contact={"law": …}``, ``friction={…}``, … or
-        ``slider_length``, ``slider_width``, ``stiffness``; docs/model_format.md)."""
+        ``slider_length``, ``slider_width``, ``stiffness``, ``guide_start``, ``guide_end``;
+        docs/model_format.md)."""
         return self._append("joints", {"name": name, "type": type, **fields})
 
     def driver(self, name: str, type: str, *, joint: str, **fields: Any) -> "ModelBuilder":

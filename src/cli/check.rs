@@ -61,16 +61,18 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
                     format_for_people(c.journal_radius)
                 )
             }
-            JointKind::PrismaticClearance(p) => format!(
-                " (guide on {}, slider on {}, c = {} m, L = {} m, w = {} m, K = {} N/m^{})",
-                model.frame_name(j.a.frame),
-                model.frame_name(j.b.frame),
-                format_for_people(p.clearance),
-                format_for_people(p.slider_length),
-                format_for_people(p.slider_width),
-                format_for_people(p.stiffness),
-                format_for_people(p.exponent)
-            ),
+            JointKind::PrismaticClearance(p) => {
+                format!(
+                    " (guide on {}, slider on {}, c = {} m, L = {} m, w = {} m, K = {} N/m^{})",
+                    model.frame_name(j.a.frame),
+                    model.frame_name(j.b.frame),
+                    format_for_people(p.clearance),
+                    format_for_people(p.slider_length),
+                    format_for_people(p.slider_width),
+                    format_for_people(p.stiffness),
+                    format_for_people(p.exponent)
+                ) + &guide_ends(p)
+            }
             _ => String::new(),
         };
         println!(
@@ -145,4 +147,18 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
         a.iterations, a.residual
     );
     Ok(())
+}
+
+/// The guide's end stops of a prismatic-clearance joint for the joint list (empty without any).
+fn guide_ends(p: &linkdyn::model::PrismaticClearanceSpec) -> String {
+    let at = |s: Option<f64>| {
+        s.map_or_else(
+            || "none".to_string(),
+            |s| format!("{} m", format_for_people(s)),
+        )
+    };
+    if p.guide_start.is_none() && p.guide_end.is_none() {
+        return String::new();
+    }
+    format!(", guide ends {} … {}", at(p.guide_start), at(p.guide_end))
 }

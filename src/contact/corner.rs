@@ -42,8 +42,10 @@
 //!
 //! Valid while the slider stays nearly aligned (tilt ≪ π/2): corners c1, c2 are only checked
 //! against the surface at −h and c3, c4 against +h, and the corners are sharp (point contacts;
-//! the stiffness K is given in the model, not derived from the materials). The guide is
-//! unbounded along u: a slider pushed past the guide's ends feels no end.
+//! the stiffness K is given in the model, not derived from the materials). The guide's optional
+//! end stops are planes across it with the outward normal m = ±A_a u and the same contact
+//! (`formulation::corner_contacts`: the face's corners against the stop, δ = (C − r_O)·m − σ s
+//! for the stop at s along u, σ = ±1); without them the guide is unbounded along u.
 //!
 //! # References
 //! 1. P. Flores, J. Ambrósio, J. C. P. Claro, H. M. Lankarani, Translational joints with

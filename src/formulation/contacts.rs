@@ -128,6 +128,32 @@ impl ContactSites {
         self.len() + kinks::N_KINK_EVENTS * self.kinks.len()
     }
 
+    /// Refuses an assembled state (q, q̇) at t = 0 with a slider corner on or past one of its
+    /// guide's end stops (the corners against the guide surfaces are checked by the model, from
+    /// the initial offset and tilt, which alone set them).
+    pub fn check_end_stops_open(
+        &self,
+        model: &Model,
+        q: &[f64],
+        v: &[f64],
+    ) -> Result<(), FormulationError> {
+        for c in self.corners.iter().filter(|c| c.is_end_stop()) {
+            let delta = c.state_alone(q, v, 0.0).kinematics.delta;
+            if delta.is_nan() || delta >= 0.0 {
+                let front = c.normal_is_forward();
+                let names = super::corner_contacts::SITE_NAMES;
+                return Err(FormulationError::SliderPastGuideEnd {
+                    joint: model.joint(c.joint).name.clone(),
+                    corner: names[(c.corner % 4).min(names.len() - 1)],
+                    field: if front { "guide_end" } else { "guide_start" },
+                    stop: if front { c.half_width } else { -c.half_width },
+                    past: delta,
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// Number of contact sites: revolute clearance joints and corners.
     pub fn len(&self) -> usize {
         self.sites.len() + self.corners.len()
@@ -420,9 +446,15 @@ impl ContactSites {
                 return Err(FormulationError::PenetrationTooDeep {
                     t,
                     joint: format!(
-                        "{} (corner {})",
+                        "{} ({} {})",
                         joint_name(c.joint),
-                        super::corner_contacts::CORNER_NAMES[c.corner.min(3)]
+                        if c.is_end_stop() {
+                            "end stop"
+                        } else {
+                            "corner"
+                        },
+                        super::corner_contacts::SITE_NAMES
+                            [c.corner.min(super::corner_contacts::SITE_NAMES.len() - 1)]
                     ),
                     penetration: s.kinematics.delta,
                     limit: c.max_penetration,

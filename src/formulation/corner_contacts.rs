@@ -3,8 +3,10 @@
 //! joint's contact code reads (`contact/corner.rs` for the geometry).
 //!
 //! A prismatic-clearance joint becomes four contact sites, one per slider corner, each with its
-//! own δ event, stored impact velocity δ̇⁽⁻⁾ and output columns; [`super::contacts::ContactSites`]
-//! numbers them after the revolute clearance joints.
+//! own δ event, stored impact velocity δ̇⁽⁻⁾ and output columns, and two more per guide end it
+//! has (the two corners of the slider's face against that end stop, the same point-on-plane
+//! contact with the plane across the guide); [`super::contacts::ContactSites`] numbers them
+//! after the revolute clearance joints.
 
 use super::contacts::SiteState;
 use crate::contact::corner::{CornerMotion, coriolis_term, corner_kinematics, corner_offset};
@@ -14,8 +16,30 @@ use crate::mechanics::planar::{
 };
 use crate::model::{Frame, JointId, JointKind, Model, PrismaticClearanceSpec};
 
-/// Names of the four corners, in order (`contact/corner.rs`): output columns `J.c1.delta` ….
-pub const CORNER_NAMES: [&str; 4] = ["c1", "c2", "c3", "c4"];
+/// Names of a joint's contact sites by [`CornerSite::corner`]: the four corners against the
+/// guide surfaces (`contact/corner.rs`), then each corner against the guide's end stop on its
+/// side, e1, e4 at `guide_start` (rear face) and e2, e3 at `guide_end` (front face). Output
+/// columns `J.c1.delta` …, `J.e2.delta` ….
+pub const SITE_NAMES: [&str; 8] = ["c1", "c2", "c3", "c4", "e1", "e2", "e3", "e4"];
+
+/// The names of the contact sites of a prismatic-clearance joint with data `spec`, in the
+/// order [`CornerSite::of_joint`] makes them: c1 … c4, then the end-stop sites its guide ends
+/// give (e1 … e4, [`SITE_NAMES`]).
+pub fn site_names(spec: &PrismaticClearanceSpec) -> impl Iterator<Item = &'static str> {
+    (0..SITE_NAMES.len())
+        .filter(move |&k| k < 4 || end_stop(spec, k - 4).is_some())
+        .filter_map(|k| SITE_NAMES.get(k).copied())
+}
+
+/// The end stop that corner `i` (0..4 for c1..c4) meets, if the guide has it: the outward
+/// normal's sign along the axis (+1 at `guide_end`, for the front corners c2, c3; −1 at
+/// `guide_start`, for the rear corners c1, c4) and the stop's position s (m).
+fn end_stop(spec: &PrismaticClearanceSpec, i: usize) -> Option<(f64, f64)> {
+    match i {
+        1 | 2 => spec.guide_end.map(|s| (1.0, s)),
+        _ => spec.guide_start.map(|s| (-1.0, s)),
+    }
+}
 
 /// Deepest penetration a corner contact is used at, as a fraction of the slider length: the
 /// point-contact laws assume a penetration small against the bodies' size.
@@ -26,15 +50,18 @@ const MAX_PENETRATION_OF_LENGTH: f64 = 0.01;
 pub struct CornerSite {
     /// The joint in the model.
     pub joint: JointId,
-    /// Which corner (0..4 for c1..c4).
+    /// Which site: 0..4 for the corners c1..c4 against the guide surfaces, 4..8 for c1..c4
+    /// against the guide's end stops (e1..e4, [`SITE_NAMES`]).
     pub corner: usize,
     /// The guide's frame (body a of the joint).
     pub guide: Frame,
     /// The centreline point O in the guide's frame (m).
     pub centreline: [f64; 2],
-    /// Outward unit normal of the corner's surface in the guide's frame.
+    /// Outward unit normal of the corner's surface in the guide's frame: ∓N for a guide surface,
+    /// ±u for an end stop.
     pub normal: [f64; 2],
-    /// Distance h = w/2 + c of the surface from the centreline (m).
+    /// Signed distance of the surface from O along the normal (m): h = w/2 + c for a guide
+    /// surface, s₁ at the front end stop, −s₀ at the rear one.
     pub half_width: f64,
     /// The slider's frame (body b of the joint).
     pub slider: Frame,
@@ -77,24 +104,47 @@ impl CornerSite {
         };
         // The slider's long direction in its own frame: the guide axis turned by −angle.
         let long = rotate((-angle).sin_cos(), axis);
-        (0..4)
-            .map(|i| {
-                let (offset, side) = corner_offset(long, slider_length, slider_width, i);
-                let n = perp(axis);
-                CornerSite {
-                    joint,
-                    corner: i,
-                    guide: j.a.frame,
-                    centreline: j.a.local,
-                    normal: [side * n[0], side * n[1]],
-                    half_width: 0.5 * slider_width + clearance,
-                    slider: j.b.frame,
-                    point: [j.b.local[0] + offset[0], j.b.local[1] + offset[1]],
-                    contact,
-                    max_penetration: MAX_PENETRATION_OF_LENGTH * slider_length,
-                }
-            })
-            .collect()
+        let site = |corner: usize, normal: [f64; 2], half_width: f64| {
+            let (offset, _) = corner_offset(long, slider_length, slider_width, corner % 4);
+            CornerSite {
+                joint,
+                corner,
+                guide: j.a.frame,
+                centreline: j.a.local,
+                normal,
+                half_width,
+                slider: j.b.frame,
+                point: [j.b.local[0] + offset[0], j.b.local[1] + offset[1]],
+                contact,
+                max_penetration: MAX_PENETRATION_OF_LENGTH * slider_length,
+            }
+        };
+        let n = perp(axis);
+        let surfaces = (0..4).map(|i| {
+            let (_, side) = corner_offset(long, slider_length, slider_width, i);
+            site(
+                i,
+                [side * n[0], side * n[1]],
+                0.5 * slider_width + clearance,
+            )
+        });
+        // An end stop is the plane s = s_k across the guide, outward normal ±u: with the normal
+        // m = σ u, δ = (C − O)·m − σ s_k is the corner's distance past it.
+        let ends = (0..4).filter_map(|i| {
+            end_stop(spec, i)
+                .map(|(sign, s)| site(4 + i, [sign * axis[0], sign * axis[1]], sign * s))
+        });
+        surfaces.chain(ends).collect()
+    }
+
+    /// True for a site against one of the guide's end stops (e1 … e4).
+    pub fn is_end_stop(&self) -> bool {
+        self.corner >= 4
+    }
+
+    /// True for the end-stop sites of the front face (e2, e3, at `guide_end`).
+    pub fn normal_is_forward(&self) -> bool {
+        matches!(self.corner, 5 | 6)
     }
 
     /// The site's name: the joint's name and the corner's, `J.c1`.
@@ -102,7 +152,7 @@ impl CornerSite {
         format!(
             "{}.{}",
             model.joint(self.joint).name,
-            CORNER_NAMES[self.corner.min(3)]
+            SITE_NAMES[self.corner.min(SITE_NAMES.len() - 1)]
         )
     }
 
@@ -224,6 +274,91 @@ fn body_point_acceleration(frame: Frame, p: &PointState, acc: &[f64]) -> [f64; 2
         Frame::Body(id) => {
             let k = 3 * id.0;
             point_acceleration(p, [acc[k], acc[k + 1], acc[k + 2]])
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A slider (L = 0.1, w = 0.04) on a guide body turned by 0.3 rad with its axis at 30° in
+    /// the guide's frame and stops at s₀ = −0.07, s₁ = 0.08: the sites are c1 … c4 then e1 … e4,
+    /// and each end-stop site's δ is, by hand, the corner's position along the turned axis
+    /// minus s₁ (front corners) or s₀ minus it (rear corners).
+    #[test]
+    fn end_stop_sites_measure_the_corners_past_the_stops() {
+        let text = r#"
+[model]
+name = "stops"
+[settings]
+gravity = [0.0, 0.0]
+[[bodies]]
+name = "guide"
+mass = 1.0
+inertia = 0.01
+points = { O = [0.0, 0.0] }
+initial = { x = 0.0, y = 0.0, phi = 0.3 }
+[[bodies]]
+name = "slider"
+mass = 1.0
+inertia = 0.001
+points = { C = [0.0, 0.0] }
+initial = { x = 0.0, y = 0.0, phi = 0.3 }
+[[joints]]
+name = "rail"
+type = "prismatic-clearance"
+body_a = "guide"
+point_a = "O"
+body_b = "slider"
+point_b = "C"
+axis = [0.8660254037844386, 0.5]
+angle = 0.0
+clearance = 1e-3
+slider_length = 0.1
+slider_width = 0.04
+stiffness = 1e9
+guide_start = -0.07
+guide_end = 0.08
+"#;
+        let model =
+            crate::model::load_str(text, "stops.toml", &[]).unwrap_or_else(|e| panic!("{e}"));
+        let Some(JointKind::PrismaticClearance(spec)) = model.joints.first().map(|j| &j.kind)
+        else {
+            panic!("no prismatic-clearance joint");
+        };
+        let names: Vec<&str> = site_names(spec).collect();
+        assert_eq!(names, SITE_NAMES.to_vec());
+        let sites = CornerSite::of_joint(&model, JointId(0));
+        assert_eq!(sites.len(), 8);
+        // Slider centre moved by (0.01, −0.02), slider turned 0.3 + 0.01 rad; guide at rest.
+        let (phi_g, phi_s) = (0.3_f64, 0.31_f64);
+        let q = [0.0, 0.0, phi_g, 0.01, -0.02, phi_s];
+        let v = [0.0; 6];
+        let u = rotate(phi_g.sin_cos(), [0.866_025_403_784_438_6, 0.5]);
+        // The slider's long direction: the axis in its own frame (angle 0), turned by φ_s.
+        let long = rotate(phi_s.sin_cos(), [0.866_025_403_784_438_6, 0.5]);
+        let short = perp(long);
+        for site in sites.iter().filter(|s| s.is_end_stop()) {
+            let i = site.corner - 4;
+            let (x, y) = [(-0.05, -0.02), (0.05, -0.02), (0.05, 0.02), (-0.05, 0.02)][i];
+            let c = [
+                0.01 + x * long[0] + y * short[0],
+                -0.02 + x * long[1] + y * short[1],
+            ];
+            let along = c[0] * u[0] + c[1] * u[1];
+            let by_hand = if matches!(i, 1 | 2) {
+                along - 0.08
+            } else {
+                -0.07 - along
+            };
+            let delta = site.state_alone(&q, &v, 0.0).kinematics.delta;
+            assert!(
+                (delta - by_hand).abs() < 1e-15,
+                "{}: δ = {delta}, by hand {by_hand}",
+                SITE_NAMES[site.corner]
+            );
+            assert_eq!(site.normal_is_forward(), matches!(i, 1 | 2));
         }
     }
 }

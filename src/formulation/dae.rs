@@ -259,6 +259,8 @@ impl Dae {
             sparse: std::cell::OnceCell::new(),
             constraints,
         };
+        dae.contacts
+            .check_end_stops_open(model, &dae.assembly.q, &dae.assembly.v)?;
         if dae.energy {
             let [kinetic, potential, elastic, ..] = dae.energy_columns(&dae.initial_state());
             dae.initial_energy = kinetic + potential + elastic;

@@ -307,7 +307,7 @@ pub enum FormulationError {
     /// A clearance joint penetrated so deep that no contact law holds: the linkage is being
     /// driven through the joint (a model that cannot move as built, or absurd forces).
     #[error(
-        "penetration of clearance joint \"{joint}\" reached {penetration:.3e} m at t = {t:.9} s, beyond {limit:.3e} m (a tenth of the journal radius) where no contact law holds: the linkage is being driven through the joint; check its geometry, driver and loads"
+        "penetration of clearance joint \"{joint}\" reached {penetration:.3e} m at t = {t:.9} s, beyond {limit:.3e} m (the deepest its contact law is used at: a tenth of the journal radius, less for Johnson's law, 1 % of a slider's length for its corners and end stops) where no contact law holds: the linkage is being driven through the joint; check its geometry, driver and loads"
     )]
     PenetrationTooDeep {
         /// Time (s).
@@ -316,8 +316,26 @@ pub enum FormulationError {
         joint: String,
         /// Penetration δ (m).
         penetration: f64,
-        /// The limit 0.1 R_J (m).
+        /// The limit (m): 0.1 R_J, less for Johnson's law, 1 % of the slider length for a
+        /// corner or end stop.
         limit: f64,
+    },
+    /// At the assembled position (t = 0) a corner of a prismatic-clearance joint's slider is on
+    /// or past one of the guide's end stops: the slider must start strictly between them.
+    #[error(
+        "prismatic-clearance joint \"{joint}\": at the assembled position (t = 0) the slider's corner {corner} is {past:.6e} m past `{field}` ({stop:e} m along the axis); expected the slider strictly between the guide's end stops, since a contact that is under way at t = 0 has no impact velocity to scale its damping: move `{field}` or the slider"
+    )]
+    SliderPastGuideEnd {
+        /// Joint name.
+        joint: String,
+        /// The corner (c1 … c4).
+        corner: &'static str,
+        /// The field of the end stop it is past: `guide_start` or `guide_end`.
+        field: &'static str,
+        /// The stop's position along the axis (m).
+        stop: f64,
+        /// How far past the stop the corner is (m, ≥ 0).
+        past: f64,
     },
     /// The constraint violation at an accepted step end or an output sample exceeded its bound (see
     /// [`dae::violation_limit`]): the trajectory has left the linkage's configuration space

@@ -320,6 +320,12 @@ pub struct JointFile {
     pub initial_offset: Option<Num>,
     /// Prismatic clearance: initial tilt of the slider from its nominal angle (rad), default 0.
     pub initial_tilt: Option<Num>,
+    /// Prismatic clearance: position of the guide's rear end stop along `axis` from `point_a`
+    /// (m, guide frame), default none (unbounded).
+    pub guide_start: Option<Num>,
+    /// Prismatic clearance: position of the guide's front end stop along `axis` from `point_a`
+    /// (m, guide frame), default none (unbounded).
+    pub guide_end: Option<Num>,
 }
 
 /// Material of one side of a clearance joint.

@@ -274,7 +274,7 @@ const DEFS: &[Def] = &[
     ),
     Def(
         "JointFile",
-        "[[joints]]: the fields of its type only (revolute, prismatic: body_a … point_b; clearance: bearing … ideal; prismatic-clearance: body_a … angle, clearance, slider_length, slider_width, stiffness, initial_offset, initial_tilt, contact, friction, ideal).",
+        "[[joints]]: the fields of its type only (revolute, prismatic: body_a … point_b; clearance: bearing … ideal; prismatic-clearance: body_a … angle, clearance, slider_length, slider_width, stiffness, initial_offset, initial_tilt, guide_start, guide_end, contact, friction, ideal).",
         &[
             Field("name", Str, REQ, "Unique joint name."),
             Field(
@@ -424,6 +424,18 @@ const DEFS: &[Def] = &[
                 Num,
                 OPT,
                 "Prismatic-clearance: initial tilt of the slider from its nominal angle (rad), default 0.",
+            ),
+            Field(
+                "guide_start",
+                Num,
+                OPT,
+                "Prismatic-clearance: rear end stop of the guide, along axis from point_a in the guide's frame (m); default none (unbounded). The slider's rear face (corners c1, c4) stops there.",
+            ),
+            Field(
+                "guide_end",
+                Num,
+                OPT,
+                "Prismatic-clearance: front end stop of the guide, along axis from point_a in the guide's frame (m); default none (unbounded). The slider's front face (corners c2, c3) stops there.",
             ),
         ],
     ),

@@ -280,6 +280,12 @@ pub struct PrismaticClearanceSpec {
     pub initial_offset: f64,
     /// Initial tilt of the slider from its nominal angle (rad).
     pub initial_tilt: f64,
+    /// Rear end stop of the guide: position s₀ along `axis` from the guide's point a (m, guide
+    /// frame) that the slider's rear face (corners c1, c4) may not pass; `None`: unbounded.
+    pub guide_start: Option<f64>,
+    /// Front end stop of the guide: position s₁ along `axis` from the guide's point a (m, guide
+    /// frame) that the slider's front face (corners c2, c3) may not pass; `None`: unbounded.
+    pub guide_end: Option<f64>,
 }
 
 /// What a joint is.

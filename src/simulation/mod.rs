@@ -333,6 +333,7 @@ impl Simulation {
 
 /// Names of the model's contact sites in the order of their events: the revolute clearance
 /// joints in model order, then the corners of the prismatic-clearance joints (`J.c1` … `J.c4`,
+/// and `J.e1` … `J.e4` against the guide's end stops where it has them,
 /// `formulation::contacts`).
 pub fn clearance_joint_names(model: &Model) -> Vec<String> {
     let revolute = model
@@ -343,10 +344,12 @@ pub fn clearance_joint_names(model: &Model) -> Vec<String> {
     let corners = model
         .joints
         .iter()
-        .filter(|j| matches!(j.kind, JointKind::PrismaticClearance(_)))
-        .flat_map(|j| {
-            crate::formulation::corner_contacts::CORNER_NAMES
-                .iter()
+        .filter_map(|j| match &j.kind {
+            JointKind::PrismaticClearance(spec) => Some((j, spec)),
+            _ => None,
+        })
+        .flat_map(|(j, spec)| {
+            crate::formulation::corner_contacts::site_names(spec)
                 .map(move |c| format!("{}.{c}", j.name))
         });
     revolute.chain(corners).collect()

@@ -82,6 +82,8 @@ impl Builder<'_, '_> {
                 ("slider_width", sn(&j.slider_width)),
                 ("initial_offset", sn(&j.initial_offset)),
                 ("initial_tilt", sn(&j.initial_tilt)),
+                ("guide_start", sn(&j.guide_start)),
+                ("guide_end", sn(&j.guide_end)),
             ];
             let at = j.name.span();
             let kind_name = j.kind.get_ref().trim();
@@ -170,6 +172,8 @@ impl Builder<'_, '_> {
                         "stiffness",
                         "initial_offset",
                         "initial_tilt",
+                        "guide_start",
+                        "guide_end",
                         "contact",
                         "friction",
                         "ideal",
@@ -565,6 +569,7 @@ impl Builder<'_, '_> {
                 ),
             ));
         }
+        let (guide_start, guide_end) = self.guide_ends(j, slider_length)?;
         Ok(PrismaticClearanceSpec {
             axis: self.axis(j.axis.as_ref())?,
             angle: j
@@ -584,7 +589,51 @@ impl Builder<'_, '_> {
             friction,
             initial_offset,
             initial_tilt,
+            guide_start,
+            guide_end,
         })
+    }
+
+    /// The optional end stops of a prismatic-clearance joint's guide, positions along the axis
+    /// from the guide's point (m, within ±[`MAX_COORDINATE`]): refuses an end at or before the
+    /// start, and a guide between them not longer than the slider (it could not hold it). That
+    /// the slider starts between them is checked at the assembled position, by the formulation.
+    fn guide_ends(&self, j: &JointFile, slider_length: f64) -> Res<(Option<f64>, Option<f64>)> {
+        let read = |v: &Option<Num>, what: &str| {
+            v.as_ref()
+                .map(|v| {
+                    self.within(
+                        v,
+                        what,
+                        -MAX_COORDINATE,
+                        MAX_COORDINATE,
+                        "the coordinate bound of the model",
+                    )
+                })
+                .transpose()
+        };
+        let start = read(&j.guide_start, "guide start (m)")?;
+        let end = read(&j.guide_end, "guide end (m)")?;
+        if let (Some(s0), Some(s1), Some(end_field)) = (start, end, j.guide_end.as_ref()) {
+            if s1 <= s0 {
+                return Err(self.err(
+                    end_field.span(),
+                    format!(
+                        "the guide end {s1:e} m is not after the guide start {s0:e} m; expected guide_end > guide_start (positions along the axis from the guide's point)"
+                    ),
+                ));
+            }
+            if s1 - s0 <= slider_length {
+                return Err(self.err(
+                    end_field.span(),
+                    format!(
+                        "the guide between guide_start = {s0:e} m and guide_end = {s1:e} m is {:.6e} m long, not longer than the slider ({slider_length:.6e} m); expected guide_end − guide_start > slider_length",
+                        s1 - s0
+                    ),
+                ));
+            }
+        }
+        Ok((start, end))
     }
 
     /// A line-contact law needs the bearing's length and takes its stiffness from the materials
