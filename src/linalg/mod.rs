@@ -6,7 +6,9 @@
 //!   formulation's dependent block Φ_qD (`formulation/generalized/sparse_lu.rs`).
 //!
 //! - [`sparse_lu`]: a square sparse LU over a pattern analysed once, refactorised with
-//!   [`sparse_refactor`]: Radau5's Newton matrices and IDA's iteration matrix on large models.
+//!   [`sparse_refactor`]: Radau5's Newton matrices, IDA's iteration matrix on large models and
+//!   the generalised formulation's dependent block Φ_qD (each with its own pivot threshold,
+//!   measured where it is set).
 //!
 //! The other factorisations still live beside their one user, each kept where a measurement
 //! showed it beating faer or nalgebra at its size (docs/measurements.md, "Small dense linear

@@ -18,7 +18,7 @@
 //! it is zero; a zero or non-finite pivot is reported as [`SingularColumn`].
 
 use super::sparse_refactor::{Entry, FixedPivotLu, PivotCheck};
-use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::dyn_stack::{MemStack, StackReq};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::lu::simplicial::{
     SimplicialLu, factorize_simplicial_numeric_lu, factorize_simplicial_numeric_lu_scratch,
@@ -28,6 +28,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 
 /// The pattern of a square sparse matrix (compressed columns) and its fill-reducing column
 /// order, computed once for every factorisation of matrices of that pattern.
+#[derive(Debug, Clone)]
 pub(crate) struct SparseLuAnalysis {
     pattern: SymbolicSparseColMat<usize>,
     symbolic: SymbolicLu<usize>,
@@ -38,6 +39,18 @@ impl SparseLuAnalysis {
     /// row indices `row_idx` (ascending and distinct within each column). `None` if the pattern
     /// is malformed or faer cannot analyse it (out of memory): the caller keeps a dense LU.
     pub(crate) fn new(dim: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>) -> Option<Self> {
+        let valid = col_ptr.len() == dim + 1
+            && col_ptr.first() == Some(&0)
+            && col_ptr.last() == Some(&row_idx.len())
+            && col_ptr.windows(2).all(|w| {
+                w[0] <= w[1]
+                    && row_idx.get(w[0]..w[1]).is_some_and(|rows| {
+                        rows.windows(2).all(|r| r[0] < r[1]) && rows.iter().all(|&i| i < dim)
+                    })
+            });
+        if !valid {
+            return None;
+        }
         let pattern = SymbolicSparseColMat::new_checked(dim, dim, col_ptr, None, row_idx);
         let symbolic = factorize_symbolic_lu(
             pattern.as_ref(),
@@ -76,14 +89,17 @@ impl SparseLuAnalysis {
     }
 }
 
-/// A factorisation failed: the pivot of column `column` (in the elimination order) is zero or
-/// not finite.
+/// A factorisation failed at elimination step `column`: its pivot is zero, not finite or
+/// refused by the caller's test; `row` is the row of the matrix it was taken from (the step
+/// itself where faer found no pivot at all).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct SingularColumn {
     pub column: usize,
+    pub row: usize,
 }
 
 /// The values of one matrix over a [`SparseLuAnalysis`]'s pattern and their LU factors.
+#[derive(Debug, Clone)]
 pub(crate) struct SparseLuFactors<T> {
     lu: SimplicialLu<usize, T>,
     row_fwd: Vec<usize>,
@@ -135,11 +151,23 @@ impl<T: Entry> SparseLuFactors<T> {
 
     /// Factorises the values: with the kept pivots if every one passes the check, else by faer
     /// with partial pivoting, whose pivots are checked for zero or NaN and whose factors are
-    /// kept for the next time. `scratch` holds at least [`SparseLuAnalysis::scratch`].
+    /// kept for the next time. `stack` holds at least [`SparseLuAnalysis::scratch`].
     pub(crate) fn factor(
         &mut self,
         analysis: &SparseLuAnalysis,
-        scratch: &mut MemBuffer,
+        stack: &mut MemStack,
+    ) -> Result<(), SingularColumn> {
+        self.factor_accepting(analysis, stack, |_| true)
+    }
+
+    /// [`Self::factor`] with a further test every pivot must pass (`regular`), on both paths:
+    /// kept pivots that fail it are factorised again with pivoting, and a pivoting
+    /// factorisation with a pivot that fails it is [`SingularColumn`].
+    pub(crate) fn factor_accepting(
+        &mut self,
+        analysis: &SparseLuAnalysis,
+        stack: &mut MemStack,
+        regular: impl Fn(T) -> bool,
     ) -> Result<(), SingularColumn> {
         self.factored = false;
         let matrix = SparseColMatRef::new(analysis.pattern.as_ref(), &self.values);
@@ -147,13 +175,16 @@ impl<T: Entry> SparseLuFactors<T> {
             && fixed
                 .refactor(matrix, analysis.col_perm(), self.check)
                 .is_ok()
+            && fixed.pivots().all(|&p| regular(p))
         {
             self.refactorisations += 1;
             self.factored = true;
             return Ok(());
         }
         self.pivoting_factorisations += 1;
-        let stack = MemStack::new(scratch);
+        // On any failure below the kept factors stay those of the last successful pivoting
+        // factorisation: a refactorisation recomputes every value from the matrix, so they
+        // serve the next attempt as well as before.
         if let Err(e) = factorize_simplicial_numeric_lu(
             &mut self.row_fwd,
             &mut self.row_inv,
@@ -162,24 +193,36 @@ impl<T: Entry> SparseLuFactors<T> {
             analysis.symbolic.col_perm(),
             stack,
         ) {
-            self.fixed = None;
             let column = match e {
-                faer::sparse::linalg::LuError::SymbolicSingular { index } => index,
+                faer::sparse::linalg::LuError::SymbolicSingular { index } => {
+                    index.min(analysis.dim().saturating_sub(1))
+                }
                 faer::sparse::linalg::LuError::Generic(_) => 0,
             };
-            return Err(SingularColumn { column });
+            return Err(SingularColumn {
+                column,
+                row: column,
+            });
         }
-        let fixed = self.fixed.get_or_insert_with(FixedPivotLu::default);
-        fixed.copy_from_faer(&self.lu, &self.row_fwd, &self.row_inv);
-        // A NaN pivot (from a NaN matrix) fails this test too.
-        let bad = fixed.pivots().position(|pivot| {
+        // faer stores the diagonal of U last in each of its columns and accepts a zero pivot
+        // (the largest of a column of zeros): the test is ours. A NaN pivot fails it too.
+        let u = self.lu.u_factor_unsorted();
+        let bad = (0..analysis.dim()).find(|&j| {
+            let pivot = u.val_of_col(j).last().copied().unwrap_or(T::zero());
             let size = pivot.modulus();
-            size.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || size.is_infinite()
+            size.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+                || size.is_infinite()
+                || !regular(pivot)
         });
         if let Some(column) = bad {
-            self.fixed = None;
-            return Err(SingularColumn { column });
+            return Err(SingularColumn {
+                column,
+                row: self.row_fwd.get(column).copied().unwrap_or(column),
+            });
         }
+        self.fixed
+            .get_or_insert_with(FixedPivotLu::default)
+            .copy_from_faer(&self.lu, &self.row_fwd, &self.row_inv);
         self.factored = true;
         Ok(())
     }
@@ -220,9 +263,10 @@ mod tests {
     fn solves_refactorises_and_reports_singularity() -> Result<(), SingularColumn> {
         let (analysis, values) = three();
         let mut lu = SparseLuFactors::<f64>::new(&analysis, PivotCheck(0.1));
-        let mut scratch = MemBuffer::new(analysis.scratch::<f64>());
+        let mut buffer = faer::dyn_stack::MemBuffer::new(analysis.scratch::<f64>());
+        let scratch = MemStack::new(&mut buffer);
         lu.values_mut().copy_from_slice(&values);
-        lu.factor(&analysis, &mut scratch)?;
+        lu.factor(&analysis, scratch)?;
         // x = (1, −1, 2): A x = (4 − 1, −3 + 4, 1 + 10) = (3, 1, 11).
         let mut b = [3.0, 1.0, 11.0];
         assert!(lu.solve(&analysis, &mut b));
@@ -233,7 +277,7 @@ mod tests {
         for (v, w) in lu.values_mut().iter_mut().zip(&values) {
             *v = 2.0 * w;
         }
-        lu.factor(&analysis, &mut scratch)?;
+        lu.factor(&analysis, scratch)?;
         assert_eq!(lu.counts(), (1, 1));
         let mut b = [3.0, 1.0, 11.0];
         assert!(lu.solve(&analysis, &mut b));
@@ -246,7 +290,7 @@ mod tests {
         assert!(!lu.solve(&analysis, &mut b));
         assert!(b.iter().all(|x| x.is_nan()));
         // All zero: singular, and still no stale solve.
-        assert!(lu.factor(&analysis, &mut scratch).is_err());
+        assert!(lu.factor(&analysis, scratch).is_err());
         assert!(!lu.solve(&analysis, &mut b));
         Ok(())
     }

@@ -28,12 +28,9 @@
 //!    operations, *SIAM Journal on Scientific and Statistical Computing* 9 (1988) 862–874.
 
 use super::lu::SINGULAR_PIVOT;
-use crate::linalg::sparse_refactor::{FixedPivotLu, PivotCheck};
+use crate::linalg::sparse_lu::{SparseLuAnalysis, SparseLuFactors};
+use crate::linalg::sparse_refactor::PivotCheck;
 use faer::dyn_stack::{MemStack, StackReq};
-use faer::perm::PermRef;
-use faer::sparse::linalg::colamd;
-use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use std::mem::MaybeUninit;
 
 /// Why [`SparseLu::analyse`] could not prepare a factorisation.
@@ -45,7 +42,8 @@ pub enum AnalyseError {
     OutOfMemory,
 }
 
-/// faer's workspace: plain bytes, allocated once (sized for an unaligned start).
+/// faer's workspace: plain bytes, allocated once (sized for an unaligned start), and cloned
+/// with the formulation.
 #[derive(Clone)]
 struct Scratch(Vec<MaybeUninit<u8>>);
 
@@ -71,27 +69,20 @@ impl std::fmt::Debug for Scratch {
     }
 }
 
-/// LU factors of an n × n sparse matrix with a fixed pattern (see the module documentation).
+/// Kept pivots that partial pivoting could have chosen only: near a singular position (a chain
+/// at its flat position) the accelerations see the round-off of this solve amplified by 1/s²,
+/// and Radau5's threshold of 0.1 moved the 10-loop chain's error at rtol 1e-10 from 1.8e-7 to
+/// 5.0e-6 m (`tests/nfourbar_chain_generalized.rs`).
+const KEPT_PIVOTS: PivotCheck = PivotCheck(1.0);
+
+/// LU factors of an n × n sparse matrix with a fixed pattern (see the module documentation):
+/// the analysis and the factors of [`crate::linalg::sparse_lu`], with the singularity test of
+/// the dense [`super::lu::factor`].
 #[derive(Debug, Clone)]
 pub struct SparseLu {
     n: usize,
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
-    /// Values in the pattern's order, written by the caller before [`SparseLu::factor`].
-    values: Vec<f64>,
-    col_perm_fwd: Vec<usize>,
-    col_perm_inv: Vec<usize>,
-    row_perm_fwd: Vec<usize>,
-    row_perm_inv: Vec<usize>,
-    lu: SimplicialLu<usize, f64>,
-    /// The factors the solves use: faer's copied after a pivoting factorisation, or
-    /// refactorised in place with its pivots.
-    fixed: Option<FixedPivotLu<f64>>,
-    /// Whether the last factorisation succeeded (the solves use `fixed` only then).
-    factored: bool,
-    /// Factorisations with the kept pivots and with pivoting (for the tests).
-    refactorisations: usize,
-    pivoting_factorisations: usize,
+    analysis: SparseLuAnalysis,
+    factors: SparseLuFactors<f64>,
     scratch: Scratch,
 }
 
@@ -115,43 +106,15 @@ impl SparseLu {
         if !valid {
             return Err(AnalyseError::BadPattern);
         }
-        let nnz = row_idx.len();
-        let mut col_perm_fwd = vec![0; n];
-        let mut col_perm_inv = vec![0; n];
-        {
-            let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-            let mut ordering = Scratch::new(colamd::order_scratch::<usize>(n, n, nnz))?;
-            colamd::order(
-                &mut col_perm_fwd,
-                &mut col_perm_inv,
-                pattern,
-                colamd::Control::default(),
-                ordering.stack(),
-            )
-            .map_err(|_| AnalyseError::OutOfMemory)?;
-        }
-        let scratch = Scratch::new(Self::scratch(n))?;
+        let analysis =
+            SparseLuAnalysis::new(n, col_ptr, row_idx).ok_or(AnalyseError::OutOfMemory)?;
+        let scratch = Scratch::new(analysis.scratch::<f64>())?;
         Ok(SparseLu {
             n,
-            col_ptr,
-            row_idx,
-            values: vec![0.0; nnz],
-            col_perm_fwd,
-            col_perm_inv,
-            row_perm_fwd: vec![0; n],
-            row_perm_inv: vec![0; n],
-            lu: SimplicialLu::new(),
-            fixed: None,
-            factored: false,
-            refactorisations: 0,
-            pivoting_factorisations: 0,
+            factors: SparseLuFactors::new(&analysis, KEPT_PIVOTS),
+            analysis,
             scratch,
         })
-    }
-
-    /// Workspace of one factorisation with pivoting.
-    fn scratch(n: usize) -> StackReq {
-        simplicial::factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n)
     }
 
     /// Order n of the matrix.
@@ -161,78 +124,28 @@ impl SparseLu {
 
     /// The values, in the order of the pattern given to [`SparseLu::analyse`].
     pub fn values_mut(&mut self) -> &mut [f64] {
-        &mut self.values
+        self.factors.values_mut()
     }
 
     /// Numeric LU of the current values. Fails with the original index of the row whose pivot
     /// is below [`SINGULAR_PIVOT`] times the largest entry, or NaN (singular to working
     /// precision, as the dense [`super::lu::factor`]).
     pub fn factor(&mut self) -> Result<(), usize> {
-        let n = self.n;
-        if n == 0 {
+        if self.n == 0 {
             return Ok(());
         }
-        let scale = self.values.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
+        let scale = self
+            .factors
+            .values_mut()
+            .iter()
+            .fold(0.0_f64, |s, x| s.max(x.abs()));
         if !scale.is_finite() {
             return Err(0);
         }
-        let a = SparseColMatRef::new(
-            SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx),
-            &self.values,
-        );
         let regular = |pivot: f64| !pivot.is_nan() && pivot.abs() > SINGULAR_PIVOT * scale;
-        self.factored = false;
-        if let Some(fixed) = &mut self.fixed
-            // Pivots partial pivoting could have chosen only: near a singular position (a chain
-            // at its flat position) the accelerations see the round-off of this solve amplified
-            // by 1/s², and Radau5's threshold of 0.1 moved the 10-loop chain's error at rtol
-            // 1e-10 from 1.8e-7 to 5.0e-6 m (`tests/nfourbar_chain_generalized.rs`).
-            && fixed.refactor(a, &self.col_perm_fwd, PivotCheck(1.0)).is_ok()
-            && fixed.pivots().all(|&p| regular(p))
-        {
-            self.refactorisations += 1;
-            self.factored = true;
-            return Ok(());
-        }
-        // First factorisation, or the kept pivots no longer do: pivot.
-        self.pivoting_factorisations += 1;
-        let col_perm = PermRef::new_checked(&self.col_perm_fwd, &self.col_perm_inv, n);
-        let factored = simplicial::factorize_simplicial_numeric_lu(
-            &mut self.row_perm_fwd,
-            &mut self.row_perm_inv,
-            &mut self.lu,
-            a,
-            col_perm,
-            self.scratch.stack(),
-        );
-        if let Err(e) = factored {
-            return Err(match e {
-                faer::sparse::linalg::LuError::SymbolicSingular { index } => {
-                    // No pivot at all at step `index`: name the row left unpivoted.
-                    self.unpivoted_row(index)
-                }
-                faer::sparse::linalg::LuError::Generic(_) => 0,
-            });
-        }
-        // faer stores the diagonal of U last in each of its columns (the layout its triangular
-        // solve relies on); partial pivoting accepts a zero pivot, so the test is ours.
-        let u = self.lu.u_factor_unsorted();
-        for j in 0..n {
-            let pivot = u.val_of_col(j).last().copied().unwrap_or(0.0);
-            if !regular(pivot) {
-                return Err(self.row_perm_fwd[j]);
-            }
-        }
-        self.fixed
-            .get_or_insert_with(FixedPivotLu::default)
-            .copy_from_faer(&self.lu, &self.row_perm_fwd, &self.row_perm_inv);
-        self.factored = true;
-        Ok(())
-    }
-
-    /// A row without a pivot after a structurally singular step (for the message only).
-    fn unpivoted_row(&self, step: usize) -> usize {
-        step.min(self.n.saturating_sub(1))
+        self.factors
+            .factor_accepting(&self.analysis, self.scratch.stack(), regular)
+            .map_err(|e| e.row)
     }
 
     /// Solves A x = b in place (`b` becomes x) with the factors of the last successful
@@ -242,7 +155,8 @@ impl SparseLu {
     }
 
     /// Solves A X = B in place for `ncols` right-hand sides stored column after column in `b`
-    /// (n · ncols values), one after the other.
+    /// (n · ncols values), one after the other. Without factors (the last factorisation
+    /// failed): NaN, not stale numbers.
     pub fn solve_columns(&mut self, b: &mut [f64], ncols: usize) {
         let n = self.n;
         if n == 0 || ncols == 0 {
@@ -251,13 +165,8 @@ impl SparseLu {
         // The callers size b as n × ncols; a shorter b solves the whole columns it holds.
         debug_assert!(b.len() >= n * ncols, "the caller sizes b as n × ncols");
         let ncols = ncols.min(b.len() / n);
-        let Some(fixed) = self.fixed.as_mut().filter(|_| self.factored) else {
-            // No factors (the last factorisation failed): NaN, not stale numbers.
-            b[..n * ncols].fill(f64::NAN);
-            return;
-        };
         for column in b[..n * ncols].chunks_mut(n) {
-            fixed.solve(column, &self.col_perm_fwd);
+            self.factors.solve(&self.analysis, column);
         }
     }
 }
@@ -347,13 +256,12 @@ mod tests {
             }
         }
         // Both paths were taken (the counts, as measured: the sequence is fixed).
+        let (pivoting, refactorisations) = lu.factors.counts();
         assert!(
-            lu.refactorisations > 0 && lu.pivoting_factorisations > 1,
-            "{} refactorisations, {} with pivoting",
-            lu.refactorisations,
-            lu.pivoting_factorisations
+            refactorisations > 0 && pivoting > 1,
+            "{refactorisations} refactorisations, {pivoting} with pivoting"
         );
-        assert_eq!(lu.refactorisations + lu.pivoting_factorisations, 12);
+        assert_eq!(refactorisations + pivoting, 12);
     }
 
     #[test]

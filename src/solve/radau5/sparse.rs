@@ -25,7 +25,7 @@ use crate::formulation::sparse_jacobian::SparsePattern;
 use crate::linalg::sparse_lu::{SingularColumn, SparseLuAnalysis, SparseLuFactors};
 use crate::linalg::sparse_refactor::PivotCheck;
 use faer::c64;
-use faer::dyn_stack::{MemBuffer, StackReq};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 
 /// The sparse LU factors of both Newton matrices, over a pattern analysed once.
 pub(super) struct SparseLu {
@@ -102,7 +102,7 @@ impl SparseLu {
             values[p] += sigma;
         }
         self.real
-            .factor(&self.analysis, &mut self.scratch)
+            .factor(&self.analysis, MemStack::new(&mut self.scratch))
             .map_err(singular)
     }
 
@@ -122,7 +122,7 @@ impl SparseLu {
             values[p] += c64::new(alpha, beta);
         }
         self.complex
-            .factor(&self.analysis, &mut self.scratch)
+            .factor(&self.analysis, MemStack::new(&mut self.scratch))
             .map_err(singular)
     }
 

@@ -16,7 +16,7 @@ use super::{slice, sun};
 use crate::formulation::sparse_jacobian::SparsePattern;
 use crate::linalg::sparse_lu::{SparseLuAnalysis, SparseLuFactors};
 use crate::linalg::sparse_refactor::PivotCheck;
-use faer::dyn_stack::MemBuffer;
+use faer::dyn_stack::{MemBuffer, MemStack};
 use std::ffi::{c_int, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -162,7 +162,10 @@ unsafe extern "C" fn setup(ls: sun::SUNLinearSolver, a: sun::SUNMatrix) -> c_int
             sys.write_pattern(a);
             let values = std::slice::from_raw_parts(sun::SUNSparseMatrix_Data(a), sys.nnz());
             sys.factors.values_mut().copy_from_slice(values);
-            match sys.factors.factor(&sys.analysis, &mut sys.scratch) {
+            match sys
+                .factors
+                .factor(&sys.analysis, MemStack::new(&mut sys.scratch))
+            {
                 Ok(()) => 0,
                 Err(_) => sun::SUNLS_LUFACT_FAIL as c_int,
             }
