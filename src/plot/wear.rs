@@ -16,7 +16,7 @@ pub fn exaggeration(clearance: f64, max_depth: f64) -> f64 {
         return 1.0;
     }
     let ideal = 0.5 * clearance / max_depth;
-    if !(ideal > 1.0) || !ideal.is_finite() {
+    if !ideal.is_finite() || ideal <= 1.0 {
         return 1.0;
     }
     let decade = 10f64.powf(ideal.log10().floor());

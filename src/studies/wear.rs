@@ -256,7 +256,7 @@ impl Sink<Dae> for WearSink {
     fn on_step(&mut self, step: &mut DenseStep<'_, Dae>) -> std::result::Result<(), SolveError> {
         let (a, b) = step.range();
         let h = b - a;
-        if !(h > 0.0) {
+        if h.is_nan() || h <= 0.0 {
             return Ok(());
         }
         let dae = step.formulation();

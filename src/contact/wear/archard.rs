@@ -62,7 +62,7 @@ impl ArchardWear {
     ) {
         let n = profile.bins();
         let volume = self.coefficient * normal_force * slip_velocity.abs() * dt;
-        if n == 0 || !(volume > 0.0) || !theta.is_finite() {
+        if n == 0 || volume.is_nan() || volume <= 0.0 || !theta.is_finite() {
             return;
         }
         let width = profile.bin_width();
@@ -71,7 +71,7 @@ impl ArchardWear {
         let first = ((theta - beta) / width).floor();
         let last = ((theta + beta) / width).floor();
         let depths = profile.depths_mut();
-        if !(beta > 0.0) || first == last {
+        if beta.is_nan() || beta <= 0.0 || first == last {
             // The whole contact inside one bin.
             let i = (first as i64).rem_euclid(n as i64) as usize;
             if let Some(h) = depths.get_mut(i) {
