@@ -168,6 +168,9 @@ impl ContactSites {
     }
 
     /// Centres and relative kinematics of joint `k` at (q, q̇), without forces.
+    // Inlined as before the wear check was added here: out of line it cost 0.5 % more
+    // instructions on farahan2016 (callgrind, docs/wear.md "Cost").
+    #[inline(always)]
     fn site_kinematics(
         &self,
         k: usize,
