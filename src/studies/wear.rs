@@ -101,7 +101,7 @@ pub fn wear(sim: &Simulation, request: WearRequest) -> Result<WearResult> {
             return Err(Error::settings(
                 "formulation",
                 format!(
-                    "the wear study runs on the DAE formulation only (the worn bearing profile is part of its contact sites); got `{kind}`"
+                    "the wear study runs on the DAE formulation only (the worn bearing profile is part of its contact sites); got {kind}"
                 ),
             ));
         }
@@ -124,8 +124,8 @@ pub fn wear(sim: &Simulation, request: WearRequest) -> Result<WearResult> {
     let (k, joint, spec) = worn_joint(sim.model())?;
     let archard = ArchardWear::from_spec(spec).ok_or_else(|| {
         Error::settings(
-            "wear",
-            format!("clearance joint \"{joint}\" has [joints.wear] but no `length`"),
+            "set",
+            format!("clearance joint \"{joint}\" has [joints.wear] but no length"),
         )
     })?;
     let bins = spec.wear.map_or(0, |w| w.bins);
@@ -215,11 +215,11 @@ fn worn_joint(model: &Model) -> Result<(usize, &str, &crate::model::ClearanceSpe
     match worn.as_slice() {
         [one] => Ok(*one),
         [] => Err(Error::settings(
-            "wear",
-            "no clearance joint of the model has a [joints.wear] table; expected one, e.g. [joints.wear] with coefficient = 1e-14 (m²/N) and the joint's `length`",
+            "set",
+            "no clearance joint of the model has a [joints.wear] table; expected one, in the model file or e.g. with --set joints.J.wear.coefficient=1e-14 (m²/N) and --set joints.J.length=0.02 (m)",
         )),
         more => Err(Error::settings(
-            "wear",
+            "set",
             format!(
                 "{} clearance joints have a [joints.wear] table ({}); expected exactly one",
                 more.len(),
