@@ -27,6 +27,7 @@ mod run;
 mod schema;
 mod spectrum;
 mod stress;
+mod wear;
 mod workprecision;
 
 use clap::{Parser, Subcommand};
@@ -73,6 +74,9 @@ enum Command {
     /// Continue a periodic orbit in one model field (pseudo-arclength): F.csv one row per
     /// point, folds, period doublings, Neimark–Sacker points and grazing located.
     Continue(continuation::ContinueArgs),
+    /// Archard wear of a clearance joint's bearing over many turns, the profile updated every
+    /// M turns: wear depth per bin (DIR/wear.csv), summary (DIR/wear.json), polar figure.
+    Wear(wear::WearArgs),
     /// Draw a figure (PNG or SVG) from result CSV files: series, orbit, poincare, bifurcation,
     /// spectrum, phase, lyapunov.
     Plot(plot::PlotArgs),
@@ -290,6 +294,7 @@ pub fn main() -> ExitCode {
         Command::Lyapunov(args) => lyapunov::run(&args),
         Command::Orbit(args) => orbit::run(&args),
         Command::Continue(args) => continuation::run(&args),
+        Command::Wear(args) => wear::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Stress(args) => stress::run(&args),

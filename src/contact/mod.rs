@@ -68,6 +68,7 @@ pub mod kinks;
 pub mod laws;
 pub mod lubrication;
 pub mod stiffness;
+pub mod wear;
 
 pub use events::{ContactMemory, ContactStats, impact_velocity};
 pub use friction::friction_force;
@@ -199,6 +200,7 @@ mod tests {
             friction,
             initial_eccentricity: [0.0, 0.0],
             lubrication: None,
+            wear: None,
         })
     }
 

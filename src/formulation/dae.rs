@@ -606,6 +606,20 @@ impl Dae {
         &self.contacts
     }
 
+    /// Sets the worn bearing profile of revolute clearance joint `k` (model order among the
+    /// clearance joints) for the runs that follow ([`ContactSites::set_wear_profile`]; the
+    /// analytic Jacobians leave the profile's slope out, an approximation for the implicit
+    /// methods' Newton iterations only).
+    ///
+    /// Errors: no revolute clearance joint `k`.
+    pub fn set_wear_profile(
+        &mut self,
+        k: usize,
+        profile: &crate::contact::wear::WearProfile,
+    ) -> Result<(), FormulationError> {
+        self.contacts.set_wear_profile(k, profile)
+    }
+
     /// State of clearance joint `k` (in [`Dae::contacts`] order) at (t, y).
     pub fn contact_state(&self, k: usize, y: &[f64]) -> super::contacts::SiteState {
         let n = self.n_coordinates();

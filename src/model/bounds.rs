@@ -83,6 +83,23 @@ pub const MAX_BEARING_LENGTH: f64 = 10.0;
 /// journal's radius is not a joint with clearance.)
 pub const MIN_CLEARANCE: f64 = 1e-9;
 
+/// Smallest dimensional wear coefficient k_w = k/H (m²/N) of `[joints.wear]`: 1e-24 m²/N,
+/// below the mildest measured wear (k ≈ 1e-8 on a 1e9 Pa hardness gives 1e-17 m²/N; Archard
+/// and Hirst 1956 list k from 1e-2 to 1e-7).
+pub const MIN_WEAR_COEFFICIENT: f64 = 1e-24;
+
+/// Largest dimensional wear coefficient k_w (m²/N): 1e-6 m²/N, far above severe wear
+/// (k = 1e-2 on a 1e8 Pa polymer gives 1e-10 m²/N), leaving room for the acceleration factors
+/// wear studies multiply k_w by to reach a worn profile in few simulated cycles.
+pub const MAX_WEAR_COEFFICIENT: f64 = 1e-6;
+
+/// Smallest number of angular bins of a wear profile: 8 (45° each).
+pub const MIN_WEAR_BINS: f64 = 8.0;
+
+/// Largest number of angular bins of a wear profile: 1e5 (13 arc seconds each), beyond which
+/// a bin is narrower than any contact width the laws here represent.
+pub const MAX_WEAR_BINS: f64 = 1e5;
+
 /// Smallest oil viscosity μ (Pa·s) of `[joints.lubrication]`: 1e-6 Pa·s, below any liquid
 /// (water 1e-3, light oils 1e-2) and near gases (air 1.8e-5), whose film is no lubricant.
 pub const MIN_VISCOSITY: f64 = 1e-6;

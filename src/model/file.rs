@@ -309,6 +309,8 @@ pub struct JointFile {
     pub friction: Option<Spanned<FrictionFile>>,
     /// Clearance: `[joints.lubrication]`, an oil film in the bearing.
     pub lubrication: Option<Spanned<LubricationFile>>,
+    /// Clearance: `[joints.wear]`, Archard wear of the bearing surface (`linkdyn wear`).
+    pub wear: Option<Spanned<WearFile>>,
     /// Clearance: `true` runs the joint as an ideal revolute joint (see `model::ideal`).
     pub ideal: Option<Spanned<bool>>,
     /// Prismatic clearance: slider length L (m).
@@ -363,6 +365,16 @@ pub struct LubricationFile {
     pub viscosity: Option<Num>,
     /// Film thickness at which the dry contact begins (m, default c/100).
     pub contact_film_thickness: Option<Num>,
+}
+
+/// `[joints.wear]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WearFile {
+    /// Dimensional wear coefficient k_w = k/H (m²/N, required, > 0).
+    pub coefficient: Option<Num>,
+    /// Number of angular bins on the bearing surface (default 360).
+    pub bins: Option<Num>,
 }
 
 /// `[joints.friction]`.

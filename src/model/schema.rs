@@ -396,6 +396,12 @@ const DEFS: &[Def] = &[
                 "Clearance: an oil film in the bearing (hydrodynamic journal bearing); needs the joint's length.",
             ),
             Field(
+                "wear",
+                Table("WearFile"),
+                OPT,
+                "Clearance: Archard wear of the bearing surface, accumulated by `linkdyn wear`; needs the joint's length, not with [joints.lubrication].",
+            ),
+            Field(
                 "ideal",
                 Bool,
                 OPT,
@@ -523,6 +529,24 @@ const DEFS: &[Def] = &[
                 Num,
                 OPT,
                 "Film thickness at which the dry contact begins (m), at most c/2, default c/100.",
+            ),
+        ],
+    ),
+    Def(
+        "WearFile",
+        "[joints.wear]",
+        &[
+            Field(
+                "coefficient",
+                Num,
+                REQ,
+                "Dimensional wear coefficient k_w = k/H (m²/N): Archard's k over the hardness H of the worn bearing, in [1e-24, 1e-6].",
+            ),
+            Field(
+                "bins",
+                Num,
+                OPT,
+                "Number of angular bins of the bearing profile (integer in [8, 1e5]), default 360.",
             ),
         ],
     ),
@@ -872,6 +896,7 @@ mod tests {
             ("ContactFile", fields_of::<file::ContactFile>()),
             ("FrictionFile", fields_of::<file::FrictionFile>()),
             ("LubricationFile", fields_of::<file::LubricationFile>()),
+            ("WearFile", fields_of::<file::WearFile>()),
             ("DriverFile", fields_of::<file::DriverFile>()),
             ("ForceFile", fields_of::<file::ForceFile>()),
             ("TableFile", fields_of::<file::TableFile>()),

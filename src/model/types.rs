@@ -125,6 +125,17 @@ pub struct LubricationSpec {
     pub contact_film_thickness: f64,
 }
 
+/// `[joints.wear]` of a clearance joint: Archard wear of the bearing surface, accumulated by
+/// `linkdyn wear` (`contact::wear`; the bearing length is the joint's `length`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct WearSpec {
+    /// Dimensional wear coefficient k_w = k/H (m²/N): Archard's dimensionless coefficient k
+    /// over the hardness H of the softer surface (Pa). > 0.
+    pub coefficient: f64,
+    /// Number of angular bins of the bearing profile, in the bearing body's frame.
+    pub bins: usize,
+}
+
 /// Contact-force law of a clearance joint (see `contact::laws`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -245,6 +256,9 @@ pub struct ClearanceSpec {
     /// Oil film, if the joint is lubricated.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lubrication: Option<LubricationSpec>,
+    /// Archard wear of the bearing surface, if the joint has a `[joints.wear]` table.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wear: Option<WearSpec>,
 }
 
 /// Data of a translational (prismatic) joint with clearance: a rectangular slider of length L

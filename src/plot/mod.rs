@@ -31,6 +31,7 @@ pub mod font;
 mod render;
 mod table;
 mod units;
+pub mod wear;
 pub mod workprecision;
 
 pub use error::PlotError;

@@ -297,6 +297,15 @@ impl Simulation {
         }
     }
 
+    /// The DAE this simulation integrates (as built, at its initial state), or `None` for the
+    /// other formulations: for studies that change it between runs ([`crate::studies::wear()`]).
+    pub fn dae(&self) -> Option<&Dae> {
+        match &self.formulation {
+            Built::Dae(f) => Some(f),
+            _ => None,
+        }
+    }
+
     /// Runs and keeps every sample in memory.
     pub fn run_to_memory(&self) -> Result<Trajectory> {
         let mut columns = Columns::with_capacity(self.names.len(), self.expected_samples());

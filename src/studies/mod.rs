@@ -16,8 +16,10 @@ pub mod continuation;
 pub mod formulations;
 pub mod orbit;
 pub mod stress;
+pub mod wear;
 pub mod workprecision;
 
 pub use contact_laws::{LawComparison, compare_contact_laws};
 pub use formulations::{FormulationComparison, compare_formulations};
 pub use orbit::{OrbitPeriod, OrbitRequest, OrbitResult, orbit};
+pub use wear::{WearRequest, WearResult, wear};

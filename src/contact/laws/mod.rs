@@ -510,6 +510,7 @@ mod tests {
             friction: FrictionSpec::None,
             initial_eccentricity: [0.0, 0.0],
             lubrication: None,
+            wear: None,
         }
     }
 

@@ -77,6 +77,7 @@ impl Builder<'_, '_> {
                 ("contact", j.contact.as_ref().map(|v| v.span())),
                 ("friction", j.friction.as_ref().map(|v| v.span())),
                 ("lubrication", j.lubrication.as_ref().map(|v| v.span())),
+                ("wear", j.wear.as_ref().map(|v| v.span())),
                 ("ideal", j.ideal.as_ref().map(|v| v.span())),
                 ("slider_length", sn(&j.slider_length)),
                 ("slider_width", sn(&j.slider_width)),
@@ -138,6 +139,7 @@ impl Builder<'_, '_> {
                         "contact",
                         "friction",
                         "lubrication",
+                        "wear",
                         "ideal",
                     ];
                     self.only_fields(&present, &allowed, "clearance joint")?;
@@ -390,6 +392,11 @@ impl Builder<'_, '_> {
             .as_ref()
             .map(|l| self.lubrication(l, length, clearance, what))
             .transpose()?;
+        let wear = j
+            .wear
+            .as_ref()
+            .map(|w| self.wear(w, length, lubrication.is_some(), what))
+            .transpose()?;
         if let (Some(l), Some(v)) = (&lubrication, &j.initial_eccentricity) {
             let e = initial_eccentricity[0].hypot(initial_eccentricity[1]);
             let limit = clearance - l.contact_film_thickness;
@@ -417,7 +424,68 @@ impl Builder<'_, '_> {
             friction,
             initial_eccentricity,
             lubrication,
+            wear,
         })
+    }
+
+    /// `[joints.wear]`: the dimensional wear coefficient and the number of bins; the bearing
+    /// length (the joint's `length`) is required, since the wear depth is the worn volume per
+    /// unit length. A lubricated joint is refused: its dry contact acts on c − h_c, and a
+    /// worn profile under a film is another model (the film's thickness would change too).
+    fn wear(
+        &self,
+        w: &Spanned<WearFile>,
+        length: Option<f64>,
+        lubricated: bool,
+        what: &str,
+    ) -> Res<WearSpec> {
+        let f = w.get_ref();
+        let k_field = self.required(&f.coefficient, "coefficient", "[joints.wear]", w.span())?;
+        self.positive(k_field, "wear coefficient k/H (m²/N)")?;
+        let coefficient = self.within(
+            k_field,
+            "wear coefficient k/H (m²/N)",
+            MIN_WEAR_COEFFICIENT,
+            MAX_WEAR_COEFFICIENT,
+            "Archard's k over the hardness H, from the mildest wear to accelerated studies",
+        )?;
+        let bins = match &f.bins {
+            None => 360,
+            Some(v) => {
+                let n = self.within(
+                    v,
+                    "number of wear bins",
+                    MIN_WEAR_BINS,
+                    MAX_WEAR_BINS,
+                    "angular bins on the bearing surface",
+                )?;
+                if n.fract() != 0.0 {
+                    return Err(self.err(
+                        v.span(),
+                        format!("expected an integer number of wear bins, found {n}"),
+                    ));
+                }
+                // Exact: an integer in [8, 1e5].
+                n as usize
+            }
+        };
+        if length.is_none() {
+            return Err(self.err(
+                w.span(),
+                format!(
+                    "a worn joint needs the bearing's axial length, over which the worn volume is spread (wear depth = volume / (length · arc)): expected a field `length` (m, > 0) on {what}, e.g. length = 0.02"
+                ),
+            ));
+        }
+        if lubricated {
+            return Err(self.err(
+                w.span(),
+                format!(
+                    "{what} has both [joints.lubrication] and [joints.wear]; expected one of them: wear is modelled for the dry contact only"
+                ),
+            ));
+        }
+        Ok(WearSpec { coefficient, bins })
     }
 
     /// `[joints.lubrication]`: the film model, the viscosity and the contact threshold; the
