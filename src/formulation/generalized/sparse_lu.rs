@@ -76,7 +76,7 @@ impl std::fmt::Debug for Scratch {
 const KEPT_PIVOTS: PivotCheck = PivotCheck(1.0);
 
 /// LU factors of an n × n sparse matrix with a fixed pattern (see the module documentation):
-/// the analysis and the factors of [`crate::linalg::sparse_lu`], with the singularity test of
+/// the analysis and the factors of `linalg::sparse_lu`, with the singularity test of
 /// the dense [`super::lu::factor`].
 #[derive(Debug, Clone)]
 pub struct SparseLu {
