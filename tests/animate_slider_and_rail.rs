@@ -169,3 +169,57 @@ fn slider_is_drawn_between_the_two_surfaces_of_its_guide() {
         );
     }
 }
+
+/// The same guide given end stops (`guide_start` = 0.14 m, `guide_end` = 0.46 m, 20 mm beyond
+/// the slider's faces at the ends of its travel, 0.16 and 0.44 m): each stop is a grey line
+/// across the guide. Checked at the end stop, where nothing else is ever drawn (the rod ends
+/// at the slider's pin, x ≤ 0.4 m; the rod lies along the centre line at the dead centres, so
+/// the start stop is hidden behind it there): the guide's centre line is grey at the stop and
+/// between the surfaces near it in every frame, background just inside it.
+#[test]
+fn the_end_stops_of_a_guide_are_drawn_across_it() {
+    const MODEL: &str = "models/slider_crank_prismatic_clearance.toml";
+    let set = [
+        "joints.rail.guide_start=0.14".to_string(),
+        "joints.rail.guide_end=0.46".to_string(),
+    ];
+    let model = match linkdyn::model::load(MODEL.as_ref(), &set) {
+        Ok(m) => m,
+        Err(e) => panic!("{e}"),
+    };
+    let run = run_table(
+        &model,
+        MODEL,
+        SimulationOptions::default().revs(1.0).dt(1e-4),
+    );
+    let options = AnimationOptions {
+        duration: Some(1.0),
+        fps: 4.0,
+        ..AnimationOptions::default()
+    };
+    let movie = match Animation::build(&model, &run, &options) {
+        Ok(m) => m,
+        Err(e) => panic!("{e}"),
+    };
+    let width = movie.view.size.0 as usize;
+    for frame in &movie.frames {
+        let rgb = match rgb_pixels(&frame.picture) {
+            Ok(p) => p,
+            Err(e) => panic!("{e}"),
+        };
+        for (x, y, expected, what) in [
+            (0.46, 0.0, GROUND, "the end stop"),
+            (0.46, 0.02, GROUND, "the end stop, near the upper surface"),
+            (0.46, -0.02, GROUND, "the end stop, near the lower surface"),
+            (0.45, 0.0, BACKGROUND, "just inside the end stop"),
+        ] {
+            let at = pixel_of(&movie.view, [x, y]);
+            let c = rgb_at(&rgb, width, at);
+            assert!(
+                near(c, expected, COLOUR_TOL),
+                "t = {} s: pixel {at:?} at {what} ({x}, {y}) m is {c:?}, expected {expected:?}",
+                frame.t
+            );
+        }
+    }
+}

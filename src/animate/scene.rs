@@ -291,7 +291,8 @@ fn stadium(a: [f64; 2], b: [f64; 2], w: f64) -> Vec<[f64; 2]> {
 }
 
 /// The mechanism of `model` at `now`: first each prismatic joint's rail, a grey line along its
-/// axis over the slider's travel and a block beyond either end; each body as its shapes
+/// axis over the slider's travel and a block beyond either end (a guide with clearance: its two
+/// surfaces, reaching its end stops, and each stop a grey line across it); each body as its shapes
 /// (filled in the body's colour), or without shapes as a line through its points (closed when
 /// it has three or more), a body with one point or none as a square block of side
 /// [`slider_block_side`] about it (a slider); then
@@ -327,10 +328,31 @@ pub fn draw(model: &Model, now: &Instant, options: &DrawOptions) -> Scene {
             JointKind::PrismaticClearance(p) => 0.5 * p.slider_length + block,
             _ => block,
         };
-        for off in rail_offsets(j) {
-            let at = |s: f64| [a[0] + s * u[0] + off * n[0], a[1] + s * u[1] + off * n[1]];
+        // The guide's end stops, where it has them: the rails reach them, and each is a line
+        // across the guide between its two surfaces.
+        let stops = match &j.kind {
+            JointKind::PrismaticClearance(p) => [p.guide_start, p.guide_end],
+            _ => [None, None],
+        };
+        let from = stops[0].map_or(lo.min(here) - reach, |s| s.min(lo.min(here) - reach));
+        let to = stops[1].map_or(hi.max(here) + reach, |s| s.max(hi.max(here) + reach));
+        let at = |s: f64, off: f64| [a[0] + s * u[0] + off * n[0], a[1] + s * u[1] + off * n[1]];
+        let offsets = rail_offsets(j);
+        for &off in &offsets {
             items.push(Item::Line {
-                points: vec![at(lo.min(here) - reach), at(hi.max(here) + reach)],
+                points: vec![at(from, off), at(to, off)],
+                closed: false,
+                colour: GROUND,
+                width_px: RAIL_PX,
+            });
+        }
+        let (first, last) = (
+            offsets.first().copied().unwrap_or(0.0),
+            offsets.last().copied().unwrap_or(0.0),
+        );
+        for stop in stops.into_iter().flatten() {
+            items.push(Item::Line {
+                points: vec![at(stop, first), at(stop, last)],
                 closed: false,
                 colour: GROUND,
                 width_px: RAIL_PX,
