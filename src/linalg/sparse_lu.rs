@@ -39,16 +39,7 @@ impl SparseLuAnalysis {
     /// row indices `row_idx` (ascending and distinct within each column). `None` if the pattern
     /// is malformed or faer cannot analyse it (out of memory): the caller keeps a dense LU.
     pub(crate) fn new(dim: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>) -> Option<Self> {
-        let valid = col_ptr.len() == dim + 1
-            && col_ptr.first() == Some(&0)
-            && col_ptr.last() == Some(&row_idx.len())
-            && col_ptr.windows(2).all(|w| {
-                w[0] <= w[1]
-                    && row_idx.get(w[0]..w[1]).is_some_and(|rows| {
-                        rows.windows(2).all(|r| r[0] < r[1]) && rows.iter().all(|&i| i < dim)
-                    })
-            });
-        if !valid {
+        if !is_square_pattern(dim, &col_ptr, &row_idx) {
             return None;
         }
         let pattern = SymbolicSparseColMat::new_checked(dim, dim, col_ptr, None, row_idx);
@@ -87,6 +78,21 @@ impl SparseLuAnalysis {
     fn col_perm(&self) -> &[usize] {
         self.symbolic.col_perm().arrays().0
     }
+}
+
+/// Whether (`col_ptr`, `row_idx`) is a `dim` × `dim` compressed-column pattern: dim + 1
+/// non-decreasing offsets from 0 to the number of entries, and row indices below dim, ascending
+/// and distinct within each column.
+pub(crate) fn is_square_pattern(dim: usize, col_ptr: &[usize], row_idx: &[usize]) -> bool {
+    col_ptr.len() == dim + 1
+        && col_ptr.first() == Some(&0)
+        && col_ptr.last() == Some(&row_idx.len())
+        && col_ptr.windows(2).all(|w| {
+            w[0] <= w[1]
+                && row_idx.get(w[0]..w[1]).is_some_and(|rows| {
+                    rows.windows(2).all(|r| r[0] < r[1]) && rows.iter().all(|&i| i < dim)
+                })
+        })
 }
 
 /// A factorisation failed at elimination step `column`: its pivot is zero, not finite or

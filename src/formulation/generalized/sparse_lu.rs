@@ -28,7 +28,7 @@
 //!    operations, *SIAM Journal on Scientific and Statistical Computing* 9 (1988) 862–874.
 
 use super::lu::SINGULAR_PIVOT;
-use crate::linalg::sparse_lu::{SparseLuAnalysis, SparseLuFactors};
+use crate::linalg::sparse_lu::{SparseLuAnalysis, SparseLuFactors, is_square_pattern};
 use crate::linalg::sparse_refactor::PivotCheck;
 use faer::dyn_stack::{MemStack, StackReq};
 use std::mem::MaybeUninit;
@@ -95,15 +95,8 @@ impl SparseLu {
         col_ptr: Vec<usize>,
         row_idx: Vec<usize>,
     ) -> Result<Self, AnalyseError> {
-        let valid = col_ptr.len() == n + 1
-            && col_ptr.first() == Some(&0)
-            && col_ptr.last() == Some(&row_idx.len())
-            && col_ptr.windows(2).all(|w| w[0] <= w[1])
-            && col_ptr.windows(2).all(|w| {
-                let rows = &row_idx[w[0]..w[1]];
-                rows.windows(2).all(|r| r[0] < r[1]) && rows.iter().all(|&i| i < n)
-            });
-        if !valid {
+        // Checked here as well as in the analysis, to tell a bad pattern from a failed one.
+        if !is_square_pattern(n, &col_ptr, &row_idx) {
             return Err(AnalyseError::BadPattern);
         }
         let analysis =
