@@ -54,6 +54,7 @@ pub mod reproduce;
 pub mod simulation;
 pub mod solve;
 pub mod studies;
+pub(crate) mod trig;
 
 pub use error::{Error, Result};
 

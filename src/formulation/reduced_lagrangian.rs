@@ -112,9 +112,10 @@ struct Link {
     beta: f64,
     /// Centre of mass in the line frame (m).
     com: [f64; 2],
-    /// I + m |ρ_G|², the moment of inertia about the first joint point (kg·m²), kept: the
-    /// right-hand side divides by it at every call.
-    pivot: f64,
+    /// 1/(I + m |ρ_G|²), the inverse moment of inertia about the first joint point (1/(kg·m²)),
+    /// kept: the right-hand side multiplies by it at every call (a division there was on the
+    /// critical path of every evaluation).
+    inverse_pivot: f64,
     /// Sum of the model's constant torques on the body (N·m).
     torque: f64,
     /// Constant point forces: (point in the line frame (m), force (N, global)).
@@ -148,17 +149,18 @@ impl Link {
             length,
             beta,
             com: to_line_frame(beta, first.local, [0.0, 0.0]),
-            pivot: 0.0,
+            inverse_pivot: 0.0,
             torque: 0.0,
             loads: Vec::new(),
         };
-        link.pivot = link.inertia + link.mass * dot(link.com, link.com);
+        link.inverse_pivot = 1.0 / (link.inertia + link.mass * dot(link.com, link.com));
         Ok(link)
     }
 
-    /// Moment of inertia about the link's first joint point, I + m |ρ_G|² (kg·m²).
-    fn pivot_inertia(&self) -> f64 {
-        self.pivot
+    /// 1/(I + m |ρ_G|²) (1/(kg·m²)), the inverse moment of inertia about the link's first joint
+    /// point.
+    fn inverse_pivot_inertia(&self) -> f64 {
+        self.inverse_pivot
     }
 
     /// Σ (R(θ) ρ_P) × F_P about the first joint point and Σ F_P, at (sin θ, cos θ).
@@ -614,8 +616,8 @@ impl ReducedLagrangian {
     /// ∂(r_J − r_B)/∂θ3 and ∂(r_J − r_B)/∂θ4 at θ3, θ4.
     fn closure_columns(&self, th: [f64; 2]) -> ([f64; 2], [f64; 2]) {
         let s = if self.bearing_on_coupler { 1.0 } else { -1.0 };
-        let (s3, c3) = th[0].sin_cos();
-        let (s4, c4) = th[1].sin_cos();
+        let (s3, c3) = crate::trig::sin_cos(th[0]);
+        let (s4, c4) = crate::trig::sin_cos(th[1]);
         // ∂C3/∂θ3 = L3 J u3 enters r_J − r_B with −s; ∂C4/∂θ4 = L4 J u4 with +s.
         let l3 = self.coupler.length;
         let l4 = self.rocker.length;
@@ -649,14 +651,12 @@ impl ReducedLagrangian {
                 return cached.sc;
             }
         }
-        let sc = angles.map(|a| {
-            let (sin, cos) = a.sin_cos();
-            // Each value through its own register: otherwise the compiler lets `sincos` write
-            // straight into the cache and then reads each (sin, cos) pair back with one 16-byte
-            // load, which cannot be forwarded from the two 8-byte stores just made and stalls
-            // (perf: about a tenth of the right-hand side's cycles).
-            (std::hint::black_box(sin), std::hint::black_box(cos))
-        });
+        // One by one, not through `array::map`, whose closure the compiler kept out of line.
+        let sc = [
+            crate::trig::sin_cos(angles[0]),
+            crate::trig::sin_cos(angles[1]),
+            crate::trig::sin_cos(angles[2]),
+        ];
         self.trig.set(TrigCache { angles: bits, sc });
         sc
     }
@@ -768,10 +768,10 @@ impl ReducedLagrangian {
             + m3c
             + cp.torque
             + load3;
-        let alpha3 = q3 / cp.pivot_inertia();
+        let alpha3 = q3 * cp.inverse_pivot_inertia();
         // Rocker: moments about the fixed pivot O4.
         let q4 = cross(a4, weight(rk.mass)) + cross(c.d[2], f4) + m4c + rk.torque + load4;
-        let alpha4 = q4 / rk.pivot_inertia();
+        let alpha4 = q4 * rk.inverse_pivot_inertia();
         for (alpha, link) in [(alpha3, cp), (alpha4, rk)] {
             if !alpha.is_finite() {
                 return Err(FormulationError::NonFinite {

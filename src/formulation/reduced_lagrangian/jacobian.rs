@@ -119,10 +119,10 @@ impl ReducedLagrangian {
         out.fill(0.0);
         out[2] = 1.0; // ∂θ̇3/∂θ̇3 in row 0
         out[5 + 3] = 1.0; // ∂θ̇4/∂θ̇4 in row 1
-        let (i3, i4) = (cp.pivot_inertia(), rk.pivot_inertia());
+        let (inv3, inv4) = (cp.inverse_pivot_inertia(), rk.inverse_pivot_inertia());
         for k in 0..5 {
-            out[10 + k] = dq3[k] / i3;
-            out[15 + k] = dq4[k] / i4;
+            out[10 + k] = dq3[k] * inv3;
+            out[15 + k] = dq4[k] * inv4;
         }
         Ok(())
     }
