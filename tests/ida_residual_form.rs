@@ -321,40 +321,15 @@ fn sparse_iteration_matrix_is_the_dense_one() {
 /// ahead of each face, moving at 0.5 m/s along it under gravity, with friction: its first impact
 /// is on the lower guide surface, then the end stop (`tests/prismatic_guide_ends.rs`).
 fn slider_between_stops() -> Model {
-    let text = r#"
-[model]
-name = "slider_between_stops"
-[settings]
-gravity = [0.0, -9.81]
-[ground]
-points = { G = [0.0, 0.0] }
-[[bodies]]
-name = "slider"
-mass = 1.0
-inertia = 0.001
-points = { C = [0.0, 0.0] }
-initial = { x = 0.0, y = 0.0, phi = 0.0, vx = 0.5 }
-[[joints]]
-name = "guide"
-type = "prismatic-clearance"
-body_a = "ground"
-point_a = "G"
-body_b = "slider"
-point_b = "C"
-clearance = 1e-3
-slider_length = 0.1
-slider_width = 0.04
-stiffness = 1e9
-guide_start = -0.06
-guide_end = 0.06
-[joints.contact]
-law = "lankarani-nikravesh"
-restitution = 0.9
-[joints.friction]
-law = "ambrosio"
-"#;
-    linkdyn::model::load_str(text, "slider_between_stops.toml", &[])
-        .unwrap_or_else(|e| panic!("{e}"))
+    common::slider::SliderInGuide {
+        gravity: 9.81,
+        vx: 0.5,
+        tilt: 0.0,
+        stop_gap: Some(0.01),
+        contact: "law = \"lankarani-nikravesh\"\nrestitution = 0.9",
+        friction: "law = \"ambrosio\"",
+    }
+    .model("slider_between_stops")
 }
 
 /// With `--energy` the three energy integrals are quadratures, not unknowns of F: the residual

@@ -13,136 +13,28 @@
 
 mod common;
 
+use common::slider::{
+    CLEARANCE, LENGTH, MASS, SliderInGuide, WIDTH, deepest_penetration, rebound_speed, rel, run,
+    site, solver,
+};
 use linkdyn::model::Model;
-use linkdyn::simulation::{FormulationKind, Simulation, SimulationOptions, Trajectory};
-use linkdyn::solve::{Method, SolverOptions};
+use linkdyn::simulation::{FormulationKind, Simulation, SimulationOptions};
+use linkdyn::solve::Method;
 
 const G: f64 = 9.81;
-/// The drop's geometry and data (SI): slider mass, length, width, clearance, corner stiffness.
-const MASS: f64 = 1.0;
-const LENGTH: f64 = 0.1;
-const WIDTH: f64 = 0.04;
-const CLEARANCE: f64 = 1e-3;
-const K: f64 = 1e9;
-const N: f64 = 1.5;
 
 /// A free slider (1 kg) in a guide on the ground x-axis, released at rest, centred, with the
 /// given tilt, initial speed along the guide, contact table and friction table.
 fn drop_model(tilt: f64, vx: f64, contact: &str, friction: &str) -> Model {
-    let text = format!(
-        r#"
-[model]
-name = "slider_drop"
-[settings]
-gravity = [0.0, -{G}]
-[ground]
-points = {{ G = [0.0, 0.0] }}
-[[bodies]]
-name = "slider"
-mass = {MASS}
-inertia = 0.001
-points = {{ C = [0.0, 0.0] }}
-initial = {{ x = 0.0, y = 0.0, phi = 0.0, vx = {vx} }}
-[[joints]]
-name = "guide"
-type = "prismatic-clearance"
-body_a = "ground"
-point_a = "G"
-body_b = "slider"
-point_b = "C"
-clearance = {CLEARANCE}
-slider_length = {LENGTH}
-slider_width = {WIDTH}
-stiffness = {K}
-initial_tilt = {tilt}
-[joints.contact]
-{contact}
-[joints.friction]
-{friction}
-"#
-    );
-    linkdyn::model::load_str(&text, "slider_drop.toml", &[]).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn run(model: &Model, options: SimulationOptions) -> Trajectory {
-    Simulation::new(model, options)
-        .and_then(|s| s.run_to_memory())
-        .unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn solver(method: Method, rtol: f64) -> SolverOptions {
-    SolverOptions::default()
-        .method(method)
-        .rtol(rtol)
-        .atol(rtol * 1e-2)
-        .build()
-        .unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn corner<'a>(traj: &'a Trajectory, name: &str) -> &'a linkdyn::simulation::ClearanceSummary {
-    traj.summary
-        .clearance_joints
-        .iter()
-        .find(|j| j.joint == name)
-        .unwrap_or_else(|| panic!("no contact site {name}"))
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs()
-}
-
-/// Deepest penetration of a mass `m` hitting a K δⁿ spring at speed `v` under gravity g along
-/// the motion: ½ m v² + m g δ = K δⁿ⁺¹/(n + 1), by bisection.
-fn max_penetration(m: f64, v: f64) -> f64 {
-    let (mut lo, mut hi) = (0.0, 1e-2);
-    for _ in 0..200 {
-        let d = 0.5 * (lo + hi);
-        if 0.5 * m * v * v + m * G * d > K * d.powf(N + 1.0) / (N + 1.0) {
-            lo = d;
-        } else {
-            hi = d;
-        }
+    SliderInGuide {
+        gravity: G,
+        vx,
+        tilt,
+        stop_gap: None,
+        contact,
+        friction,
     }
-    lo
-}
-
-/// Rebound speed of a mass `m` hitting the Lankarani–Nikravesh law
-/// F = K δⁿ (1 + χ δ̇/v), χ = 3(1 − c_r²)/4, at speed `v` under gravity along the motion:
-/// m δ̈ = m g − F from δ = 0, δ̇ = v until δ returns to 0 (classical RK4, 2e5 steps over the
-/// contact, the crossing interpolated linearly). The one-degree-of-freedom reference.
-fn rebound_speed(m: f64, v: f64, c_r: f64) -> f64 {
-    let chi = 0.75 * (1.0 - c_r * c_r);
-    let acc = |d: f64, dd: f64| {
-        let f = if d > 0.0 {
-            (K * d.powf(N) * (1.0 + chi * dd / v)).max(0.0)
-        } else {
-            0.0
-        };
-        G - f / m
-    };
-    // Contact time scale of the Hertz impact: δ_max / v times a few.
-    let h = 10.0 * max_penetration(m, v) / v / 2e5;
-    let (mut d, mut dd) = (0.0_f64, v);
-    loop {
-        let (k1d, k1v) = (dd, acc(d, dd));
-        let (k2d, k2v) = (
-            dd + 0.5 * h * k1v,
-            acc(d + 0.5 * h * k1d, dd + 0.5 * h * k1v),
-        );
-        let (k3d, k3v) = (
-            dd + 0.5 * h * k2v,
-            acc(d + 0.5 * h * k2d, dd + 0.5 * h * k2v),
-        );
-        let (k4d, k4v) = (dd + h * k3v, acc(d + h * k3d, dd + h * k3v));
-        let d1 = d + h / 6.0 * (k1d + 2.0 * k2d + 2.0 * k3d + k4d);
-        let dd1 = dd + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
-        if d1 <= 0.0 && dd1 < 0.0 {
-            let s = d / (d - d1);
-            return -(dd + s * (dd1 - dd));
-        }
-        d = d1;
-        dd = dd1;
-    }
+    .model("slider_drop")
 }
 
 /// A flat slider falls the clearance c: both lower corners hit at t = sqrt(2c/g) with
@@ -161,9 +53,9 @@ fn flat_drop_lands_on_both_lower_corners_as_the_closed_form_says() {
     );
     let t_fall = (2.0 * CLEARANCE / G).sqrt();
     let v_fall = (2.0 * G * CLEARANCE).sqrt();
-    let delta_max = max_penetration(0.5 * MASS, v_fall);
+    let delta_max = deepest_penetration(0.5 * MASS, v_fall, G);
     for name in ["guide.c1", "guide.c2"] {
-        let c = corner(&traj, name);
+        let c = site(&traj, name);
         assert!(c.impacts.len() >= 2, "{name}: {} impacts", c.impacts.len());
         let first = &c.impacts[0];
         // rtol 1e-10: the event time and state are located to about that.
@@ -190,7 +82,7 @@ fn flat_drop_lands_on_both_lower_corners_as_the_closed_form_says() {
         );
     }
     for name in ["guide.c3", "guide.c4"] {
-        assert_eq!(corner(&traj, name).impacts.len(), 0, "{name} touched");
+        assert_eq!(site(&traj, name).impacts.len(), 0, "{name} touched");
     }
     let phi = traj
         .column("slider.phi")
@@ -206,8 +98,8 @@ fn flat_drop_lands_on_both_lower_corners_as_the_closed_form_says() {
         .column("guide.fy")
         .unwrap_or_else(|| panic!("guide.fy"));
     let peak = fy.iter().fold(0.0_f64, |m, x| m.max(*x));
-    let corners = corner(&traj, "guide.c1").impacts[0].peak_normal_force
-        + corner(&traj, "guide.c2").impacts[0].peak_normal_force;
+    let corners = site(&traj, "guide.c1").impacts[0].peak_normal_force
+        + site(&traj, "guide.c2").impacts[0].peak_normal_force;
     assert!(
         peak <= corners * (1.0 + 1e-9) && peak > 0.5 * corners,
         "sampled reaction {peak} N vs peak corner forces {corners} N"
@@ -233,9 +125,9 @@ fn flat_drop_rebounds_as_the_law_of_half_the_mass() {
             .solver(solver(Method::Dop853, 1e-10)),
     );
     let v_fall = (2.0 * G * CLEARANCE).sqrt();
-    let v_out = rebound_speed(0.5 * MASS, v_fall, 0.9);
+    let v_out = rebound_speed(0.5 * MASS, v_fall, 0.9, G);
     for name in ["guide.c1", "guide.c2"] {
-        let c = corner(&traj, name);
+        let c = site(&traj, name);
         assert!(c.impacts.len() >= 2, "{name}: {} impacts", c.impacts.len());
         let second = c.impacts[1].impact_velocity;
         // The 1-DOF reference is integrated to ~1e-9; the run's events to ~1e-8.
@@ -272,8 +164,8 @@ fn tilted_drop_lands_on_one_corner_then_the_other() {
     );
     let gap = CLEARANCE - 0.5 * LENGTH * tilt.sin() - 0.5 * WIDTH * (tilt.cos() - 1.0);
     let t1 = (2.0 * gap / G).sqrt();
-    let c1 = corner(&traj, "guide.c1");
-    let c2 = corner(&traj, "guide.c2");
+    let c1 = site(&traj, "guide.c1");
+    let c2 = site(&traj, "guide.c2");
     let first = c1
         .impacts
         .first()

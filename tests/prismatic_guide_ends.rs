@@ -10,132 +10,30 @@
 //! 3. the energy balance closes (`--energy`) when the slider slides on the lower guide surface
 //!    with friction and hits the stops, for DOP853 and Radau5.
 
-use linkdyn::model::Model;
-use linkdyn::simulation::{
-    ClearanceSummary, FormulationKind, Simulation, SimulationOptions, Trajectory,
-};
-use linkdyn::solve::{Method, SolverOptions};
+mod common;
 
-/// The slider and guide (SI): mass, length, width, clearance, corner stiffness and exponent,
-/// and the free travel from the centred slider's face to each stop.
-const MASS: f64 = 1.0;
-const LENGTH: f64 = 0.1;
-const WIDTH: f64 = 0.04;
-const CLEARANCE: f64 = 1e-3;
-const K: f64 = 1e9;
-const N: f64 = 1.5;
+use common::slider::{
+    LENGTH, MASS, SliderInGuide, deepest_penetration, rebound_speed, rel, run, site, solver,
+};
+use linkdyn::model::Model;
+use linkdyn::simulation::{FormulationKind, SimulationOptions};
+use linkdyn::solve::Method;
+
+/// The free travel from the centred slider's face to each stop (m).
 const GAP: f64 = 0.01;
 
 /// A free slider (1 kg) centred in a guide on the ground x-axis with stops GAP ahead of each
 /// face, moving along it at `vx` (m/s), under gravity `g` (m/s², along −y).
 fn model(g: f64, vx: f64, contact: &str, friction: &str) -> Model {
-    let start = -0.5 * LENGTH - GAP;
-    let end = 0.5 * LENGTH + GAP;
-    let text = format!(
-        r#"
-[model]
-name = "slider_between_stops"
-[settings]
-gravity = [0.0, -{g}]
-[ground]
-points = {{ G = [0.0, 0.0] }}
-[[bodies]]
-name = "slider"
-mass = {MASS}
-inertia = 0.001
-points = {{ C = [0.0, 0.0] }}
-initial = {{ x = 0.0, y = 0.0, phi = 0.0, vx = {vx} }}
-[[joints]]
-name = "guide"
-type = "prismatic-clearance"
-body_a = "ground"
-point_a = "G"
-body_b = "slider"
-point_b = "C"
-clearance = {CLEARANCE}
-slider_length = {LENGTH}
-slider_width = {WIDTH}
-stiffness = {K}
-guide_start = {start}
-guide_end = {end}
-[joints.contact]
-{contact}
-[joints.friction]
-{friction}
-"#
-    );
-    linkdyn::model::load_str(&text, "slider_between_stops.toml", &[])
-        .unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn run(model: &Model, options: SimulationOptions) -> Trajectory {
-    Simulation::new(model, options)
-        .and_then(|s| s.run_to_memory())
-        .unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn solver(method: Method, rtol: f64) -> SolverOptions {
-    SolverOptions::default()
-        .method(method)
-        .rtol(rtol)
-        .atol(rtol * 1e-2)
-        .build()
-        .unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn site<'a>(traj: &'a Trajectory, name: &str) -> &'a ClearanceSummary {
-    traj.summary
-        .clearance_joints
-        .iter()
-        .find(|j| j.joint == name)
-        .unwrap_or_else(|| panic!("no contact site {name}"))
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs()
-}
-
-/// Rebound speed of a mass `m` hitting F = K δⁿ (1 + χ δ̇/v), χ = 3(1 − c_r²)/4
-/// (Lankarani–Nikravesh), at speed `v` with no other force: m δ̈ = −F from δ = 0, δ̇ = v until
-/// δ returns to 0 (classical RK4, 2e5 steps over about the contact time, the crossing
-/// interpolated linearly). The one-degree-of-freedom reference.
-fn rebound_speed(m: f64, v: f64, c_r: f64) -> f64 {
-    let chi = 0.75 * (1.0 - c_r * c_r);
-    let acc = |d: f64, dd: f64| {
-        if d > 0.0 {
-            -(K * d.powf(N) * (1.0 + chi * dd / v)).max(0.0) / m
-        } else {
-            0.0
-        }
-    };
-    let h = 10.0 * deepest_penetration(m, v) / v / 2e5;
-    let (mut d, mut dd) = (0.0_f64, v);
-    loop {
-        let (k1d, k1v) = (dd, acc(d, dd));
-        let (k2d, k2v) = (
-            dd + 0.5 * h * k1v,
-            acc(d + 0.5 * h * k1d, dd + 0.5 * h * k1v),
-        );
-        let (k3d, k3v) = (
-            dd + 0.5 * h * k2v,
-            acc(d + 0.5 * h * k2d, dd + 0.5 * h * k2v),
-        );
-        let (k4d, k4v) = (dd + h * k3v, acc(d + h * k3d, dd + h * k3v));
-        let d1 = d + h / 6.0 * (k1d + 2.0 * k2d + 2.0 * k3d + k4d);
-        let dd1 = dd + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
-        if d1 <= 0.0 && dd1 < 0.0 {
-            let s = d / (d - d1);
-            return -(dd + s * (dd1 - dd));
-        }
-        d = d1;
-        dd = dd1;
+    SliderInGuide {
+        gravity: g,
+        vx,
+        tilt: 0.0,
+        stop_gap: Some(GAP),
+        contact,
+        friction,
     }
-}
-
-/// Deepest penetration of a mass `m` hitting K δⁿ at speed `v` with no other force, from
-/// ½ m v² = K δⁿ⁺¹/(n + 1).
-fn deepest_penetration(m: f64, v: f64) -> f64 {
-    ((N + 1.0) * 0.5 * m * v * v / K).powf(1.0 / (N + 1.0))
+    .model("slider_between_stops")
 }
 
 /// Hertz (no damping), no gravity, 0.5 m/s: the front face reaches the stop after GAP/v on both
@@ -155,7 +53,7 @@ fn slider_reaches_the_end_stop_and_comes_back_as_the_closed_form_says() {
             .solver(solver(Method::Dop853, 1e-10)),
     );
     let t_hit = GAP / v;
-    let delta_max = deepest_penetration(0.5 * MASS, v);
+    let delta_max = deepest_penetration(0.5 * MASS, v, 0.0);
     for name in ["guide.e2", "guide.e3"] {
         let s = site(&traj, name);
         let first = s
@@ -250,7 +148,7 @@ fn slider_rebounds_from_the_end_stop_as_the_law_of_half_the_mass() {
             .dt(1e-4)
             .solver(solver(Method::Dop853, 1e-10)),
     );
-    let v_out = rebound_speed(0.5 * MASS, v, 0.9);
+    let v_out = rebound_speed(0.5 * MASS, v, 0.9, 0.0);
     for name in ["guide.e1", "guide.e4"] {
         let back = site(&traj, name)
             .impacts

@@ -5,6 +5,7 @@ pub mod chain;
 pub mod energy;
 pub mod fourbar;
 pub mod ode;
+pub mod slider;
 
 use linkdyn::formulation::{Dae, DaeOptions, Formulation, Outputs};
 use linkdyn::model::Model;
