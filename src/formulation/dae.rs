@@ -123,9 +123,6 @@ struct Work {
     /// attempts included, evaluations for
     /// output samples not): how close the step came to a singular position.
     min_pivot_ratio: f64,
-    /// The stages of the step were a residual form's
-    /// ([`StepHooks::residual_stages`]: IDA).
-    residual_stages: bool,
     /// (t, pivot ratio) of the stages since the start of the step that came near a singular
     /// position (ratio below [`PROJECTION_RATIO`]): more samples of the approach than the step
     /// ends for [`passages::Episode`].
@@ -168,7 +165,7 @@ pub struct Dae {
     episode: passages::Episode,
     /// Step ends projected onto the constraints near singular positions ([`projection`]).
     projections: usize,
-    /// Which step ends of an IDA run's approach are projected ([`projection::Spacing`]).
+    /// Which step ends of the approach are projected ([`projection::Spacing`]).
     spacing: projection::Spacing,
     work: RefCell<Work>,
     /// Buffers of the analytic Jacobian (`dae/jacobian.rs`).
@@ -252,7 +249,6 @@ impl Dae {
                 last_y: Vec::new(),
                 last_acc: vec![0.0; 3 * nb],
                 min_pivot_ratio: 1.0,
-                residual_stages: false,
                 stage_ratios: Vec::new(),
             }),
             jacobian_scratch: RefCell::default(),
@@ -1031,7 +1027,6 @@ impl StepHooks for Dae {
     fn begin_step(&mut self, _t: f64, _y: &[f64]) {
         let work = self.work.get_mut();
         work.min_pivot_ratio = 1.0;
-        work.residual_stages = false;
         work.stage_ratios.clear();
     }
 
@@ -1040,7 +1035,6 @@ impl StepHooks for Dae {
     fn residual_stages(&mut self, min_pivot_ratio: f64) {
         let work = self.work.get_mut();
         work.min_pivot_ratio = work.min_pivot_ratio.min(min_pivot_ratio);
-        work.residual_stages = true;
     }
 
     /// Near a singular position (a stage of the step with a pivot ratio below
@@ -1058,17 +1052,13 @@ impl StepHooks for Dae {
         let stage_min = self.work.get_mut().min_pivot_ratio;
         let mut response = EventResponse::Continue;
         if stage_min < PROJECTION_RATIO {
-            let (r_end, projected) = if self.work.get_mut().residual_stages {
-                let mut spacing = self.spacing;
-                spacing.saw(stage_min);
-                let (r_end, projected) =
-                    self.project_state(t, y, &mut self.work.borrow_mut(), |r| spacing.wanted(r))?;
-                spacing.ended(r_end, projected);
-                self.spacing = spacing;
-                (r_end, projected)
-            } else {
-                self.project_state(t, y, &mut self.work.borrow_mut(), |_| true)?
-            };
+            // Spaced projections for every method ([`projection::Spacing`]).
+            let mut spacing = self.spacing;
+            spacing.saw(stage_min);
+            let (r_end, projected) =
+                self.project_state(t, y, &mut self.work.borrow_mut(), |r| spacing.wanted(r))?;
+            spacing.ended(r_end, projected);
+            self.spacing = spacing;
             let stages = std::mem::take(&mut self.work.get_mut().stage_ratios);
             self.episode.add(t, r_end, stage_min, &stages);
             self.work.get_mut().stage_ratios = stages;
