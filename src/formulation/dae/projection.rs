@@ -15,7 +15,7 @@
 //! ```
 //!
 //! with A the regularised Schur complement of the multiplier solve, on the step ends spaced
-//! by [`Spacing`] (a projection restarts the integrator; projecting every step end cost
+//! by `Spacing` (a projection restarts the integrator; projecting every step end cost
 //! accuracy). Arrival drift is then the integration error of the few steps since the last
 //! projection. A step end too close to the singular position is not projected (there the
 //! branches are within ~s L of each other and A⁻¹ is set by the regularisation, not by the
