@@ -33,6 +33,31 @@ fn slider_crank() -> (linkdyn::model::Model, Table) {
     (model, table)
 }
 
+/// The slider in its guide with clearance (models/slider_crank_prismatic_clearance.toml) with
+/// the overrides `set`, run for one crank turn and animated at 4 frames per second.
+fn guide_movie(set: &[String]) -> (linkdyn::model::Model, Table, Animation) {
+    const MODEL: &str = "models/slider_crank_prismatic_clearance.toml";
+    let model = match linkdyn::model::load(MODEL.as_ref(), set) {
+        Ok(m) => m,
+        Err(e) => panic!("{e}"),
+    };
+    let run = run_table(
+        &model,
+        MODEL,
+        SimulationOptions::default().revs(1.0).dt(1e-4),
+    );
+    let options = AnimationOptions {
+        duration: Some(1.0),
+        fps: 4.0,
+        ..AnimationOptions::default()
+    };
+    let movie = match Animation::build(&model, &run, &options) {
+        Ok(m) => m,
+        Err(e) => panic!("{e}"),
+    };
+    (model, run, movie)
+}
+
 #[test]
 fn slider_block_and_rail_are_drawn_where_the_run_puts_them() {
     let (model, run) = slider_crank();
@@ -106,25 +131,7 @@ fn slider_block_and_rail_are_drawn_where_the_run_puts_them() {
 /// background between them there, and the slider's own polygon where the run puts it.
 #[test]
 fn slider_is_drawn_between_the_two_surfaces_of_its_guide() {
-    const MODEL: &str = "models/slider_crank_prismatic_clearance.toml";
-    let model = match linkdyn::model::load(MODEL.as_ref(), &[]) {
-        Ok(m) => m,
-        Err(e) => panic!("{e}"),
-    };
-    let run = run_table(
-        &model,
-        MODEL,
-        SimulationOptions::default().revs(1.0).dt(1e-4),
-    );
-    let options = AnimationOptions {
-        duration: Some(1.0),
-        fps: 4.0,
-        ..AnimationOptions::default()
-    };
-    let movie = match Animation::build(&model, &run, &options) {
-        Ok(m) => m,
-        Err(e) => panic!("{e}"),
-    };
+    let (model, run, movie) = guide_movie(&[]);
     let width = movie.view.size.0 as usize;
     let block = SLIDER_BLOCK_FRACTION * 0.3;
     let slider = model
@@ -178,29 +185,10 @@ fn slider_is_drawn_between_the_two_surfaces_of_its_guide() {
 /// between the surfaces near it in every frame, background just inside it.
 #[test]
 fn the_end_stops_of_a_guide_are_drawn_across_it() {
-    const MODEL: &str = "models/slider_crank_prismatic_clearance.toml";
-    let set = [
+    let (_, _, movie) = guide_movie(&[
         "joints.rail.guide_start=0.14".to_string(),
         "joints.rail.guide_end=0.46".to_string(),
-    ];
-    let model = match linkdyn::model::load(MODEL.as_ref(), &set) {
-        Ok(m) => m,
-        Err(e) => panic!("{e}"),
-    };
-    let run = run_table(
-        &model,
-        MODEL,
-        SimulationOptions::default().revs(1.0).dt(1e-4),
-    );
-    let options = AnimationOptions {
-        duration: Some(1.0),
-        fps: 4.0,
-        ..AnimationOptions::default()
-    };
-    let movie = match Animation::build(&model, &run, &options) {
-        Ok(m) => m,
-        Err(e) => panic!("{e}"),
-    };
+    ]);
     let width = movie.view.size.0 as usize;
     for frame in &movie.frames {
         let rgb = match rgb_pixels(&frame.picture) {

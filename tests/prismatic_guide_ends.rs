@@ -13,7 +13,8 @@
 mod common;
 
 use common::slider::{
-    LENGTH, MASS, SliderInGuide, deepest_penetration, rebound_speed, rel, run, site, solver,
+    LENGTH, MASS, SliderInGuide, assert_first_impact, deepest_penetration, rebound_speed, rel, run,
+    site, solver,
 };
 use linkdyn::model::Model;
 use linkdyn::simulation::{FormulationKind, SimulationOptions};
@@ -55,27 +56,7 @@ fn slider_reaches_the_end_stop_and_comes_back_as_the_closed_form_says() {
     let t_hit = GAP / v;
     let delta_max = deepest_penetration(0.5 * MASS, v, 0.0);
     for name in ["guide.e2", "guide.e3"] {
-        let s = site(&traj, name);
-        let first = s
-            .impacts
-            .first()
-            .unwrap_or_else(|| panic!("{name}: never hit the end stop"));
-        // rtol 1e-10: the event time and state are located to about that.
-        assert!(
-            rel(first.t, t_hit) < 1e-7,
-            "{name}: hit at {} s vs free flight {t_hit} s",
-            first.t
-        );
-        assert!(
-            rel(first.impact_velocity, v) < 1e-7,
-            "{name}: impact velocity {} vs {v}",
-            first.impact_velocity
-        );
-        assert!(
-            rel(first.peak_penetration, delta_max) < 1e-6,
-            "{name}: peak penetration {} vs closed form {delta_max}",
-            first.peak_penetration
-        );
+        let s = assert_first_impact(&traj, name, t_hit, v, delta_max);
         // The whole run stays within the law's range: never deeper than the impact's closed
         // form, far below the 1 %-of-length limit at which the run would stop.
         assert!(

@@ -111,6 +111,39 @@ pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
+/// The summary of contact site `name`, whose first impact came at time `t` (s) with impact
+/// velocity `v` (m/s), both to 1e-7 relative (at rtol 1e-10 the event time and state are
+/// located to about that), and went as deep as `delta_max` (m) to 1e-6 relative.
+pub fn assert_first_impact<'a>(
+    traj: &'a Trajectory,
+    name: &str,
+    t: f64,
+    v: f64,
+    delta_max: f64,
+) -> &'a ClearanceSummary {
+    let s = site(traj, name);
+    let first = s
+        .impacts
+        .first()
+        .unwrap_or_else(|| panic!("{name}: no impact"));
+    assert!(
+        rel(first.t, t) < 1e-7,
+        "{name}: impact at {} s vs {t} s",
+        first.t
+    );
+    assert!(
+        rel(first.impact_velocity, v) < 1e-7,
+        "{name}: impact velocity {} vs {v}",
+        first.impact_velocity
+    );
+    assert!(
+        rel(first.peak_penetration, delta_max) < 1e-6,
+        "{name}: peak penetration {} vs closed form {delta_max}",
+        first.peak_penetration
+    );
+    s
+}
+
 /// Deepest penetration of a mass `m` hitting a K δⁿ spring at speed `v` with a constant
 /// acceleration `g` along the motion: ½ m v² + m g δ = K δⁿ⁺¹/(n + 1) (closed form for g = 0,
 /// bisection otherwise).
