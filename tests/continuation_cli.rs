@@ -44,7 +44,7 @@ fn a_short_branch_starts_on_the_orbit_and_ends_at_to() {
     let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
     assert_eq!(header[0], "joints.B.clearance");
     assert_eq!(
-        header[header.len() - 7..],
+        header[header.len() - 9..],
         [
             "period_s",
             "max_abs_mu",
@@ -52,7 +52,9 @@ fn a_short_branch_starts_on_the_orbit_and_ends_at_to() {
             "impacts_per_period",
             "min_gap_m",
             "residual",
-            "special"
+            "special",
+            "branch",
+            "turn"
         ]
     );
     let phi = header
@@ -76,10 +78,14 @@ fn a_short_branch_starts_on_the_orbit_and_ends_at_to() {
         "rocker.phi at 0.44 mm: {first}"
     );
     // Period-1 and stable over this stretch (docs/reproduce.md: period-1 there), one impact
-    // per turn, and no special point.
+    // per turn, and no special point: one branch, one row (turn 0) per point.
     for r in &rows {
         let n = r.len();
-        assert_eq!((r[n - 5], r[n - 4], r[n - 1]), ("1", "1", ""), "{r:?}");
+        assert_eq!(
+            (r[n - 7], r[n - 6], r[n - 3], r[n - 2], r[n - 1]),
+            ("1", "1", "", "0", "0"),
+            "{r:?}"
+        );
     }
     let json = read(&out.with_extension("json"));
     for key in [

@@ -351,6 +351,36 @@ fn every_kind_of_special_point_has_its_marker_and_every_stretch_its_line() {
     assert!(!svg.contains(">\nunstable\n<") && !svg.contains("fold"));
 }
 
+#[test]
+fn each_branch_and_turn_of_its_period_is_its_own_line() {
+    let dir = scratch("branches");
+    // A period-1 branch (branch 0) and a period-2 branch (branch 1) whose points have a row
+    // per turn, interleaved as `linkdyn continue --follow-doublings` writes them.
+    let mut text = "joints.B.clearance,rocker.phi,coupler.phi,period_s,max_abs_mu,stable,impacts_per_period,min_gap_m,residual,special,branch,turn\n# model models/farahan2016.toml sha256 0\n".to_string();
+    for (k, p) in [4.0e-4, 4.1e-4, 4.2e-4].iter().enumerate() {
+        text += &format!(
+            "{p},{},0.6,0.017,0.5,1,1,-1e-4,1,,0,0\n",
+            1.0 + 0.1 * k as f64
+        );
+    }
+    for (k, p) in [4.3e-4, 4.4e-4, 4.5e-4].iter().enumerate() {
+        let d = 0.05 * (k + 1) as f64;
+        for (turn, phi) in [1.3 + d, 1.3 - d].iter().enumerate() {
+            text += &format!("{p},{phi},0.6,0.034,0.5,1,2,-1e-4,1,,1,{turn}\n");
+        }
+    }
+    let branch = dir.join("branches.csv");
+    assert!(std::fs::write(&branch, text).is_ok());
+    let svg = draw(
+        &dir,
+        "branches",
+        &[&s(&branch), "--coordinate", "rocker.phi"],
+    );
+    // Three lines (the period-1 branch and the period-2 branch's two section points), not one
+    // zigzag through the interleaved rows; one more for the legend.
+    assert_eq!(solid_and_dashed(&svg, BRANCH), (3 + 1, 0));
+}
+
 /// `linkdyn plot continuation ARGS --out DIR/bad.svg`: exit code and stderr; no file.
 fn refused(dir: &Path, args: &[&str]) -> (i32, String) {
     let out = dir.join("bad.svg");

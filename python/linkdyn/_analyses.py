@@ -387,13 +387,15 @@ class PeriodicOrbit:
 
 @dataclass(frozen=True, repr=False)
 class Continuation:
-    """A branch of periodic orbits continued in one model field (``linkdyn continue``: its
-    ``F.csv``, one row per point in the order of the branch, as arrays, and its ``F.json``'s
-    keys).
+    """Branches of periodic orbits continued in one model field (``linkdyn continue``: its
+    ``F.csv``, one row per point and driver turn of its period in the order of each branch,
+    as arrays, and its ``F.json``'s keys).
 
-    ``branch["rocker.phi"]`` is one state column along the branch; the CSV's other columns
+    ``branch["rocker.phi"]`` is one state column along the rows; the CSV's other columns
     (``parameter`` or the field's path, ``period_s``, ``max_abs_mu``, ``stable``,
-    ``impacts_per_period``, ``min_gap_m``, ``residual``, ``special``) work too.
+    ``impacts_per_period``, ``min_gap_m``, ``residual``, ``special``, ``branch``, ``turn``)
+    work too. Without ``follow_doublings`` and with one turn per period, every row is a point
+    of branch 0 at turn 0.
     """
 
     #: The continued field (a ``set=`` path, e.g. ``joints.B.clearance``).
@@ -418,7 +420,12 @@ class Continuation:
     residual: FloatArray
     #: Special point of each row: ``"fold"``, ``"PD"``, ``"NS"``, ``"grazing"`` or ``""``.
     special: List[str]
-    #: The nontrivial Floquet multipliers of each point (complex arrays).
+    #: Branch of each row, int64: 0 the one from ``from_``, then those switched to at period
+    #: doublings (``branches``).
+    branch: IntArray
+    #: Driver turn of each row within its point's period, int64 (0: the section).
+    turn: IntArray
+    #: The nontrivial Floquet multipliers of each row (complex arrays).
     floquet_multipliers: List[ComplexArray]
     #: The located special points: the JSON's rows (``parameter``, ``state``, ``period_s``,
     #: ``max_abs_mu``, ``floquet_multipliers`` as ``[re, im]``, ``stable``, …, ``special``).
@@ -429,8 +436,14 @@ class Continuation:
     #: Why the branch ended: ``{"reason": "reached"}``, ``"turned_back"``, ``"max_points"``
     #: or ``"failed"`` (with ``message``).
     end: Dict[str, Any]
-    #: Period in driver turns.
+    #: Period in driver turns (branch 0).
     period_turns: int
+    #: Every branch: ``branch``, ``period_turns``, ``switched_from`` (``[branch, parameter]``
+    #: of the period doubling, or None), ``points``, ``special_points``, ``unlocated``,
+    #: ``end`` (also ``{"reason": "rejoined", "parameter": p}``).
+    branches: List[Dict[str, Any]]
+    #: Period doublings where no period-2K branch was found: ``[branch, parameter, why]``.
+    switch_failures: List[Any]
     #: Wall time (s).
     wall_time_s: float
     #: Solver statistics of every integration, summed.
@@ -447,12 +460,12 @@ class Continuation:
         if name in self.names:
             return self.state[:, self.names.index(name)]
         if name in ("period_s", "max_abs_mu", "stable", "impacts_per_period", "min_gap_m",
-                    "residual", "special"):
+                    "residual", "special", "branch", "turn"):
             return getattr(self, name)
         raise KeyError(
             f"no column \"{name}\" in the branch (columns: {self.parameter_name}, "
             f"{', '.join(self.names)}, period_s, max_abs_mu, stable, impacts_per_period, "
-            "min_gap_m, residual, special)"
+            "min_gap_m, residual, special, branch, turn)"
         )
 
     def to_pandas(self) -> Any:
@@ -462,17 +475,19 @@ class Continuation:
         for k, n in enumerate(self.names):
             data[n] = self.state[:, k]
         for n in ("period_s", "max_abs_mu", "stable", "impacts_per_period", "min_gap_m",
-                  "residual", "special"):
+                  "residual", "special", "branch", "turn"):
             data[n] = getattr(self, n)
         return _frame(data, "Continuation")
 
     def __repr__(self) -> str:
         kinds = ", ".join(
-            f"{k} at {p:.6g}" for k, p in zip(self.special, self.parameter) if k
+            f"{k} at {p:.6g}"
+            for k, p, t in zip(self.special, self.parameter, self.turn) if k and t == 0
         )
         return (
-            f"<linkdyn.Continuation in {self.parameter_name}: {len(self.parameter)} points; "
-            f"special points: {kinds or 'none'}; end: {self.end.get('reason')}>"
+            f"<linkdyn.Continuation in {self.parameter_name}: {len(self.parameter)} rows, "
+            f"{len(self.branches)} branch(es); special points: {kinds or 'none'}; "
+            f"end: {self.end.get('reason')}>"
         )
 
 

@@ -585,7 +585,9 @@ impl PyModel {
     /// continuation with steps of at most `step` (default |to − from_|/20), the orbit of
     /// `period_turns` driver turns (default 1) found first at `from_` from the state after
     /// `guess_from_turn` periods (default 3); folds, period doublings, Neimark–Sacker points
-    /// and grazings located on the way. Each point reloads the model with the load-time
+    /// and grazings located on the way; `follow_doublings` N (default 0) also continues the
+    /// period-2K branch from each located period doubling, N doublings deep (the rows'
+    /// `branch` and `turn`). Each point reloads the model with the load-time
     /// overrides and `param=value`. Solve settings as `orbit`. Returns a
     /// `linkdyn.Continuation` (the command's `F.csv` as arrays and its `F.json`'s keys); the
     /// GIL is released while Rust integrates.
@@ -596,7 +598,7 @@ impl PyModel {
     /// `step` or period), `ModelError` (an unknown `param` or a value the model refuses,
     /// prefixed `param PATH: `), `SolverError` (no orbit at `from_`, or a failed integration).
     #[pyo3(signature = (param, from_, to, *, step = None, period_turns = 1, guess_from_turn = 3,
-        **solve))]
+        follow_doublings = 0, **solve))]
     #[allow(clippy::too_many_arguments)]
     fn continuation<'py>(
         &self,
@@ -607,6 +609,7 @@ impl PyModel {
         step: Option<f64>,
         period_turns: i64,
         guess_from_turn: i64,
+        follow_doublings: i64,
         solve: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let solve = Solve::from_kwargs_formulation("continuation", solve, "reduced")?;
@@ -620,6 +623,7 @@ impl PyModel {
             step,
             period_turns,
             guess_from_turn,
+            follow_doublings,
         };
         orbit::branch(py, &self.model, &self.path, &text, &solve, args)
     }

@@ -139,6 +139,7 @@ pub struct ContinuationArgs {
     pub step: Option<f64>,
     pub period_turns: i64,
     pub guess_from_turn: i64,
+    pub follow_doublings: i64,
 }
 
 /// `Model.continuation` (`linkdyn continue`). `text` is the model's text before the overrides
@@ -186,6 +187,12 @@ pub fn branch<'py>(
                 0,
                 "a whole number of periods ≥ 0",
             )?;
+            let follow_doublings = count(
+                "follow_doublings",
+                a.follow_doublings,
+                0,
+                "a whole number of period doublings ≥ 0",
+            )?;
             // Both ends load with the parameter: an unknown path or a bad value is named now.
             for value in [a.from, a.to] {
                 let mut with = overrides.clone();
@@ -203,6 +210,7 @@ pub fn branch<'py>(
                 step: a.step,
                 period_turns,
                 guess_from_turn,
+                follow_doublings,
                 options: solve.options()?,
             };
             Ok(continuation(&request)?)
@@ -233,6 +241,10 @@ pub fn branch<'py>(
         .map(|r| r.special.map_or("", |k| k.name()))
         .collect();
     fields.set_item("special", special)?;
+    let branch: Vec<usize> = rows.iter().map(|r| r.branch).collect();
+    fields.set_item("branch", ints(py, &branch))?;
+    let turn: Vec<usize> = rows.iter().map(|r| r.turn).collect();
+    fields.set_item("turn", ints(py, &turn))?;
     let multipliers = rows
         .iter()
         .map(|r| complex(py, &r.floquet_multipliers))
@@ -244,6 +256,8 @@ pub fn branch<'py>(
         "unlocated",
         "end",
         "period_turns",
+        "branches",
+        "switch_failures",
         "wall_time_s",
         "solver_stats",
         "provenance",
@@ -253,9 +267,12 @@ pub fn branch<'py>(
     let record = record(py, "Continuation", &fields)?;
     // A branch that stopped before `to` is a result (the command writes its files and exits
     // 3): returned, with the command's message as a RuntimeWarning.
-    let last = rows.last().map_or(f64::NAN, |r| r.parameter);
+    let last = rows
+        .iter()
+        .rfind(|r| r.branch == 0)
+        .map_or(f64::NAN, |r| r.parameter);
     let stopped = match &result.end {
-        BranchEnd::Reached | BranchEnd::TurnedBack => None,
+        BranchEnd::Reached | BranchEnd::TurnedBack | BranchEnd::Rejoined { .. } => None,
         BranchEnd::MaxPoints => Some(format!(
             "the branch stopped after {} points at {} = {last}, before to",
             result.points, a.param

@@ -124,6 +124,42 @@ def test_continuation_is_the_cli_s_bit_for_bit(cli, tmp_path):
         assert list(df.columns) == names
 
 
+def test_a_followed_period_doubling_is_the_cli_s_bit_for_bit(cli, tmp_path):
+    # The period-1 branch across the whole bubble (docs/periodic_orbits.md, "Branch
+    # switching"), and the period-2 branch from its first period doubling back to the other.
+    out = tmp_path / "c.csv"
+    args = ["--param", "joints.B.clearance", "--from", "0.0004155", "--to", "0.000407",
+            "--step", "0.000002", "--follow-doublings", "1"]
+    code, stdout, err = cli("continue", MODEL, "--set", "drivers.motor.speed_rpm=3500",
+                            *args, *TOL, "--out", str(out))
+    assert code == 0, err
+    b = linkdyn.load(MODEL, set=SPEED).continuation(
+        "joints.B.clearance", 0.0004155, 0.000407, step=0.000002, follow_doublings=1, **TOL_KW)
+    _, names, columns = read(out)
+    assert names[-2:] == ["branch", "turn"]
+    for n in [names[0], *b.names, "period_s", "max_abs_mu", "branch", "turn"]:
+        assert same_bits(columns[n], b[n]), f"{n}: {first_difference(columns[n], b[n])}"
+    assert columns["special"] == b.special
+    js = json.loads(out.with_suffix(".json").read_text())
+    for key in ("branches", "switch_failures", "end", "points"):
+        assert (len(b.parameter[(b.branch == 0) & (b.turn == 0)]) if key == "points"
+                else getattr(b, key)) == js[key], key
+    # Two branches: the period-2 one starts at branch 0's first PD and rejoins it.
+    assert [br["period_turns"] for br in b.branches] == [1, 2]
+    two = b.branches[1]
+    pds = [p for p, s, k, t in zip(b.parameter, b.special, b.branch, b.turn)
+           if k == 0 and t == 0 and s == "PD"]
+    assert len(pds) == 2
+    assert two["switched_from"] == [0, float(pds[0])]
+    assert two["end"]["reason"] == "rejoined"
+    # Each of its points has a row per turn, the two section points apart inside the bubble.
+    inner = (b.branch == 1) & np.array([s == "" for s in b.special])
+    first, second = b["rocker.phi"][inner & (b.turn == 0)], b["rocker.phi"][inner & (b.turn == 1)]
+    assert len(first) == len(second) == two["points"] - 2
+    assert np.all(np.abs(first - second) > 1e-7)
+    assert f"rejoined branch 0 at joints.B.clearance = {two['end']['parameter']!r}" in stdout
+
+
 def _has_pandas() -> bool:
     try:
         import pandas  # noqa: F401

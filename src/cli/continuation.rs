@@ -46,7 +46,12 @@ pub struct ContinueArgs {
     /// from where they end (the section).
     #[arg(long, default_value_t = 3)]
     guess_from_turn: usize,
-    /// Result file (CSV, one row per point); the summary goes beside it as `.json`.
+    /// Also continue the period-2K branch from each located period doubling, and theirs, N
+    /// doublings deep (rows with `branch` ≥ 1).
+    #[arg(long, default_value_t = 0)]
+    follow_doublings: usize,
+    /// Result file (CSV, one row per point and driver turn of its period); the summary goes
+    /// beside it as `.json`.
     #[arg(long)]
     out: PathBuf,
 }
@@ -109,6 +114,7 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
         step: args.step,
         period_turns: args.period_turns,
         guess_from_turn: args.guess_from_turn,
+        follow_doublings: args.follow_doublings,
         options: args.solve.options()?.formulation(args.formulation),
     };
     if args.solve.rtol > 1e-9 {
@@ -130,7 +136,9 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
         text.push(',');
         text.push_str(name);
     }
-    text.push_str(",period_s,max_abs_mu,stable,impacts_per_period,min_gap_m,residual,special\n");
+    text.push_str(
+        ",period_s,max_abs_mu,stable,impacts_per_period,min_gap_m,residual,special,branch,turn\n",
+    );
     for line in result.provenance.lines() {
         text.push_str("# ");
         text.push_str(&line);
@@ -142,7 +150,8 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
     pair.csv().write_str(&text)?;
     pair.commit(&result)?;
 
-    for row in &result.special_points {
+    let main: Vec<&ContinuationRow> = result.rows.iter().filter(|r| r.branch == 0).collect();
+    for row in main.iter().filter(|r| r.special.is_some() && r.turn == 0) {
         println!("{}", describe(&args.param, row));
     }
     for (kind, p, why) in &result.unlocated {
@@ -152,23 +161,83 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
         );
     }
     let (first, last) = (
-        result.rows.first().map_or(f64::NAN, |r| r.parameter),
-        result.rows.last().map_or(f64::NAN, |r| r.parameter),
+        main.first().map_or(f64::NAN, |r| r.parameter),
+        main.last().map_or(f64::NAN, |r| r.parameter),
     );
     println!(
         "{} points from {} = {first} to {last}; largest residual {:.3e} integration tolerances",
         result.points,
         args.param,
-        result.rows.iter().map(|r| r.residual).fold(0.0, f64::max)
+        main.iter().map(|r| r.residual).fold(0.0, f64::max)
     );
+    let mut stopped = Vec::new();
+    for b in result.branches.iter().skip(1) {
+        let rows: Vec<&ContinuationRow> = result
+            .rows
+            .iter()
+            .filter(|r| r.branch == b.branch && r.turn == 0)
+            .collect();
+        let (parent, at) = b.switched_from.unwrap_or((0, f64::NAN));
+        let last = rows.last().map_or(f64::NAN, |r| r.parameter);
+        let how = match &b.end {
+            BranchEnd::Reached => format!("reached --to {}", args.to),
+            BranchEnd::TurnedBack => format!("left the range at --from {}", args.from),
+            BranchEnd::Rejoined { parameter } => format!(
+                "rejoined branch {parent} at {} = {parameter} (a period doubling of that branch)",
+                args.param
+            ),
+            BranchEnd::MaxPoints => {
+                stopped.push(format!(
+                    "branch {} stopped after {} points",
+                    b.branch, b.points
+                ));
+                format!(
+                    "stopped after {} points at {} = {last}",
+                    b.points, args.param
+                )
+            }
+            BranchEnd::Failed { message } => {
+                stopped.push(format!(
+                    "branch {} stopped at {} = {last}: {message}",
+                    b.branch, args.param
+                ));
+                format!(
+                    "stopped at {} = {last}: no orbit beyond it with the smallest step: {message}",
+                    args.param
+                )
+            }
+        };
+        println!(
+            "branch {} (period {} turns) from the PD of branch {parent} at {} = {at}: {} points; {how}",
+            b.branch, b.period_turns, args.param, b.points
+        );
+        for row in rows.iter().skip(1).filter(|r| r.special.is_some()) {
+            if !matches!(b.end, BranchEnd::Rejoined { parameter } if parameter == row.parameter) {
+                println!("  {}", describe(&args.param, row));
+            }
+        }
+        for (kind, p, why) in &b.unlocated {
+            println!(
+                "  {kind} between the point before and {} = {p}, not located: {why}",
+                args.param
+            );
+        }
+    }
+    for (parent, p, why) in &result.switch_failures {
+        println!(
+            "no period-doubled branch followed from the PD of branch {parent} at {} = {p}: {why}",
+            args.param
+        );
+        stopped.push(format!("no branch from the PD at {} = {p}", args.param));
+    }
     eprintln!(
         "{} and {} in {:.3} s",
         args.out.display(),
         args.out.with_extension("json").display(),
         result.wall_time_s
     );
-    match &result.end {
-        BranchEnd::Reached => Ok(()),
+    let main_end = match &result.end {
+        BranchEnd::Reached | BranchEnd::Rejoined { .. } => Ok(()),
         BranchEnd::TurnedBack => {
             println!(
                 "the branch turned back (a fold) and left the range at --from before reaching --to"
@@ -189,6 +258,18 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
                 args.param
             ),
         }),
+    };
+    main_end?;
+    if stopped.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure {
+            code: EXIT_SOLVER,
+            message: format!(
+                "not every period-doubled branch was followed to its end (files written): {}",
+                stopped.join("; ")
+            ),
+        })
     }
 }
 
@@ -210,6 +291,10 @@ fn push_row(text: &mut String, row: &ContinuationRow) {
     push_number(text, row.residual);
     text.push(',');
     text.push_str(row.special.map_or("", |k| k.name()));
+    text.push(',');
+    text.push_str(&row.branch.to_string());
+    text.push(',');
+    text.push_str(&row.turn.to_string());
     text.push('\n');
 }
 

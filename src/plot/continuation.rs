@@ -5,10 +5,11 @@
 //! each other.
 //!
 //! The branch file's columns: `<parameter>`, the output columns at the section, then
-//! `period_s,max_abs_mu,stable,impacts_per_period,min_gap_m,residual,special`
-//! (docs/periodic_orbits.md, "Continuation"). A segment between two consecutive points is drawn
-//! solid when both points are stable, dashed otherwise: an unstable point never lies on a
-//! solid line.
+//! `period_s,max_abs_mu,stable,impacts_per_period,min_gap_m,residual,special,branch,turn`
+//! (docs/periodic_orbits.md, "Continuation"). Each branch and turn of its period is one line
+//! (files without `branch` and `turn`, one line). A segment between two consecutive points
+//! of a line is drawn solid when both points are stable, dashed otherwise: an unstable point
+//! never lies on a solid line.
 
 use super::figures::{display_unit, label_with, no_rows, scaled_points};
 use super::units::unit_of;
@@ -198,22 +199,46 @@ pub fn continuation(
         });
     }
     let points = scaled_points(p, fp, v, fv);
-    let [solid, dashed] = stability_runs(stable);
-    for (runs, dash, name) in [
+    // One line per branch and turn of its period (a period-2K branch has two section points
+    // per parameter value, as the diagram does); a file without those columns is one line.
+    let curves: Vec<Vec<usize>> = match (table.column("branch"), table.column("turn")) {
+        (Ok(branch), Ok(turn)) => {
+            let mut keys: Vec<(f64, f64)> = Vec::new();
+            let mut curves: Vec<Vec<usize>> = Vec::new();
+            for (i, key) in branch.iter().copied().zip(turn.iter().copied()).enumerate() {
+                match keys.iter().position(|k| *k == key) {
+                    Some(c) => curves[c].push(i),
+                    None => {
+                        keys.push(key);
+                        curves.push(vec![i]);
+                    }
+                }
+            }
+            curves
+        }
+        _ => vec![(0..points.len()).collect()],
+    };
+    let mut lines: [Vec<(f64, f64)>; 2] = [Vec::new(), Vec::new()];
+    for curve in &curves {
+        let stable_of: Vec<f64> = curve.iter().map(|&i| stable[i]).collect();
+        for (runs, line) in stability_runs(&stable_of).iter().zip(lines.iter_mut()) {
+            // Runs separated by a non-finite point (which breaks the line): one legend entry
+            // per stability.
+            for &(a, b) in runs {
+                if !line.is_empty() {
+                    line.push((f64::NAN, f64::NAN));
+                }
+                line.extend(curve[a..=b].iter().filter_map(|&i| points.get(i).copied()));
+            }
+        }
+    }
+    let [solid, dashed] = lines;
+    for (line, dash, name) in [
         (solid, Dash::Solid, "stable"),
         (dashed, Dash::Dashed, "unstable"),
     ] {
-        if runs.is_empty() {
+        if line.is_empty() {
             continue;
-        }
-        // One series per stability, its runs separated by a non-finite point (which breaks
-        // the line): one legend entry each.
-        let mut line = Vec::new();
-        for (a, b) in runs {
-            if !line.is_empty() {
-                line.push((f64::NAN, f64::NAN));
-            }
-            line.extend_from_slice(points.get(a..=b).unwrap_or_default());
         }
         fig.series.push(Series {
             name: Some(name.into()),

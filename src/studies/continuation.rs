@@ -12,12 +12,13 @@ use serde::Serialize;
 
 use crate::analysis::AnalysisError;
 use crate::analysis::orbit::{
-    BranchEnd, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind, continue_orbit,
+    Branch, BranchEnd, BranchPoint, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind,
+    continue_orbit, switch_branch,
 };
 use crate::error::{Error, Result};
 use crate::formulation::{Formulation, Outputs, ReducedLagrangian};
 use crate::simulation::{EndTime, Provenance, Simulation, SimulationOptions, analyses};
-use crate::solve::{SolverStats, Stepper, Stop};
+use crate::solve::{SolverOptions, SolverStats, Stepper, Stop};
 
 /// What `linkdyn continue` asks for.
 #[derive(Debug, Clone, PartialEq)]
@@ -41,6 +42,10 @@ pub struct ContinuationRequest<'a> {
     /// Periods integrated from the initial state at `from` before the first shooting (its
     /// guess); the section is at the end of them.
     pub guess_from_turn: usize,
+    /// Period doublings followed: 0 continues one branch; N also continues the period-2K
+    /// branch from each located period doubling, and theirs, N doublings deep
+    /// ([`crate::analysis::orbit::switch_branch`]).
+    pub follow_doublings: usize,
     /// Formulation and solver (the end time is ignored).
     pub options: SimulationOptions,
 }
@@ -69,6 +74,33 @@ pub struct ContinuationRow {
     pub residual: f64,
     /// A located special point: its kind.
     pub special: Option<SpecialKind>,
+    /// The branch ([`ContinuationResult::branches`]: 0 the one from `from`).
+    pub branch: usize,
+    /// The driver turn of the section within the period: 0 at the section; a period of K
+    /// turns has a row for each turn 0..K with the state there (the point's other values
+    /// repeated), as a bifurcation diagram shows it.
+    pub turn: usize,
+}
+
+/// One branch of a continuation.
+#[derive(Debug, Clone, Serialize)]
+pub struct BranchSummary {
+    /// Its index (the rows' `branch`).
+    pub branch: usize,
+    /// Period of its orbits in driver turns.
+    pub period_turns: usize,
+    /// The branch it switched from at a period doubling, and that point's parameter; `None`
+    /// for the branch from `from`.
+    pub switched_from: Option<(usize, f64)>,
+    /// Points on it (turn 0 rows).
+    pub points: usize,
+    /// The located special points.
+    pub special_points: usize,
+    /// Special points detected between two points but not located: kind, the parameter after
+    /// the change, why.
+    pub unlocated: Vec<(SpecialKind, f64, String)>,
+    /// Why it ended.
+    pub end: BranchEnd,
 }
 
 /// The result of [`continuation`]: the keys of `F.json` (docs/periodic_orbits.md).
@@ -78,20 +110,26 @@ pub struct ContinuationResult {
     pub parameter: String,
     /// Output column names at the section (the CSV's columns after the parameter).
     pub names: Vec<String>,
-    /// The branch, in order of arclength.
+    /// The branches, each in order of arclength, each point with a row per driver turn of its
+    /// period ([`ContinuationRow::turn`]).
     #[serde(skip)]
     pub rows: Vec<ContinuationRow>,
-    /// Points on the branch.
+    /// Points on the branch from `from`.
     pub points: usize,
     /// The located special points (also rows of the CSV).
     pub special_points: Vec<ContinuationRow>,
     /// Special points detected between two points but not located: kind, the parameter after
-    /// the change, why.
+    /// the change, why (the branch from `from`).
     pub unlocated: Vec<(SpecialKind, f64, String)>,
-    /// Why the branch ended.
+    /// Why the branch from `from` ended.
     pub end: BranchEnd,
-    /// Period in driver turns.
+    /// Period in driver turns (the branch from `from`).
     pub period_turns: usize,
+    /// Every branch: the one from `from`, then those switched to at period doublings
+    /// (`follow_doublings`), in the order they were computed.
+    pub branches: Vec<BranchSummary>,
+    /// Period doublings where no period-2K branch was found: the branch, the parameter, why.
+    pub switch_failures: Vec<(usize, f64, String)>,
     /// Wall time (s).
     pub wall_time_s: f64,
     /// Cost of every integration, summed.
@@ -123,6 +161,54 @@ impl ModelFamily<'_> {
                 ..r.options.clone()
             },
         )
+    }
+
+    /// The output columns of the orbit at `pt` (`period_turns` driver turns) at each driver
+    /// turn of its period: one integration, interpolated at the turns (none for one turn).
+    fn sections(
+        &self,
+        pt: &BranchPoint,
+        period_turns: usize,
+        solver: &SolverOptions,
+        stats: &mut SolverStats,
+    ) -> Result<Vec<Vec<f64>>> {
+        let at = self.orbit_at(pt.parameter)?;
+        let mut f = at.f;
+        let mut states = vec![(pt.t0, pt.y0.clone())];
+        if period_turns > 1 {
+            let solve = |source| {
+                Error::Analysis(AnalysisError::Solve {
+                    analysis: "continuation (sections)",
+                    source,
+                })
+            };
+            let turn = pt.period / period_turns as f64;
+            let t_end = pt.t0 + pt.period;
+            let mut y = pt.y0.clone();
+            let mut stepper = Stepper::new(&mut f, pt.t0, &pt.y0, t_end, solver).map_err(solve)?;
+            let mut next = 1;
+            loop {
+                let stop = stepper.step().map_err(solve)?;
+                while next < period_turns && pt.t0 + next as f64 * turn <= stepper.t() {
+                    let t = pt.t0 + next as f64 * turn;
+                    stepper.interpolate(t, &mut y).map_err(solve)?;
+                    states.push((t, y.clone()));
+                    next += 1;
+                }
+                if stop == Stop::EndReached {
+                    break;
+                }
+            }
+            stats.add_run(stepper.stats());
+        }
+        states
+            .iter()
+            .map(|(t, y)| {
+                let mut state = Vec::new();
+                f.outputs_into(*t, y, &mut state)?;
+                Ok(state)
+            })
+            .collect()
     }
 
     /// The formulation at `p`, its section and period.
@@ -210,25 +296,48 @@ pub fn continuation(request: &ContinuationRequest<'_>) -> Result<ContinuationRes
         .step
         .unwrap_or_else(|| (request.to - request.from).abs() / 20.0);
     let options = ContinuationOptions::new(request.from, request.to, step);
-    let branch = continue_orbit(&family, &guess, &options, &solver)?;
-    stats.add_run(&branch.stats);
+    let main = continue_orbit(&family, &guess, &options, &solver)?;
+    let (main_end, main_unlocated) = (main.end.clone(), main.unlocated.clone());
+    let (branches, switch_failures) = follow_doublings(&family, main, request, &options, &solver);
 
     let names = start.f.output_names();
-    let mut rows = Vec::with_capacity(branch.points.len());
-    for pt in &branch.points {
-        let mut state = Vec::new();
-        start.f.outputs_into(pt.t0, &pt.y0, &mut state)?;
-        rows.push(ContinuationRow {
-            parameter: pt.parameter,
-            state,
-            period_s: pt.period,
-            max_abs_mu: pt.spectral_radius,
-            floquet_multipliers: pt.multipliers.clone(),
-            stable: pt.stable,
-            impacts_per_period: pt.impacts_per_period,
-            min_gap_m: pt.min_gap,
-            residual: pt.residual,
-            special: pt.special,
+    let mut rows = Vec::new();
+    let mut summaries = Vec::with_capacity(branches.len());
+    for (index, followed) in branches.iter().enumerate() {
+        let period_turns = followed.multiple * request.period_turns;
+        stats.add_run(&followed.branch.stats);
+        for pt in &followed.branch.points {
+            let sections = family.sections(pt, period_turns, &solver, &mut stats)?;
+            for (turn, state) in sections.into_iter().enumerate() {
+                rows.push(ContinuationRow {
+                    parameter: pt.parameter,
+                    state,
+                    period_s: pt.period,
+                    max_abs_mu: pt.spectral_radius,
+                    floquet_multipliers: pt.multipliers.clone(),
+                    stable: pt.stable,
+                    impacts_per_period: pt.impacts_per_period,
+                    min_gap_m: pt.min_gap,
+                    residual: pt.residual,
+                    special: pt.special,
+                    branch: index,
+                    turn,
+                });
+            }
+        }
+        summaries.push(BranchSummary {
+            branch: index,
+            period_turns,
+            switched_from: followed.switched_from,
+            points: followed.branch.points.len(),
+            special_points: followed
+                .branch
+                .points
+                .iter()
+                .filter(|p| p.special.is_some())
+                .count(),
+            unlocated: followed.branch.unlocated.clone(),
+            end: followed.branch.end.clone(),
         });
     }
     let fmt = crate::numbers::format_number;
@@ -243,24 +352,109 @@ pub fn continuation(request: &ContinuationRequest<'_>) -> Result<ContinuationRes
         ("step", fmt(step)),
         ("period_turns", request.period_turns.to_string()),
         ("guess_from_turn", request.guess_from_turn.to_string()),
+        ("follow_doublings", request.follow_doublings.to_string()),
     ] {
         provenance.settings.insert(key.into(), value);
     }
     Ok(ContinuationResult {
         parameter: request.parameter.to_string(),
         names,
-        points: rows.len(),
+        points: summaries.first().map_or(0, |b| b.points),
         special_points: rows
             .iter()
-            .filter(|r| r.special.is_some())
+            .filter(|r| r.special.is_some() && r.turn == 0)
             .cloned()
             .collect(),
         rows,
-        unlocated: branch.unlocated,
-        end: branch.end,
+        unlocated: main_unlocated,
+        end: main_end,
         period_turns: request.period_turns,
+        branches: summaries,
+        switch_failures,
         wall_time_s: started.elapsed().as_secs_f64(),
         solver_stats: stats,
         provenance,
     })
+}
+
+/// A computed branch: its period as a multiple of the request's, and where it came from.
+struct Followed {
+    multiple: usize,
+    switched_from: Option<(usize, f64)>,
+    depth: usize,
+    branch: Branch,
+}
+
+/// The branch from `from`, then the period-2K branch of each of its located period doublings
+/// (and theirs, `request.follow_doublings` deep). A period doubling where a branch switched to
+/// from it rejoined (the other end of a bubble) starts none: that branch is already there.
+/// Returns the branches and the period doublings where no branch was found, with why.
+fn follow_doublings(
+    family: &ModelFamily<'_>,
+    main: Branch,
+    request: &ContinuationRequest<'_>,
+    options: &ContinuationOptions,
+    solver: &SolverOptions,
+) -> (Vec<Followed>, Vec<(usize, f64, String)>) {
+    let mut branches = vec![Followed {
+        multiple: 1,
+        switched_from: None,
+        depth: 0,
+        branch: main,
+    }];
+    let mut failures = Vec::new();
+    let mut i = 0;
+    while i < branches.len() {
+        if branches[i].depth < request.follow_doublings {
+            let points = &branches[i].branch.points;
+            // A switched branch's own ends (where it left and rejoined its parent) are its
+            // parent's period doublings, not its own.
+            let own = match branches[i].switched_from {
+                Some(_) => {
+                    1..points.len().saturating_sub(usize::from(matches!(
+                        branches[i].branch.end,
+                        BranchEnd::Rejoined { .. }
+                    )))
+                }
+                None => 0..points.len(),
+            };
+            let doublings: Vec<BranchPoint> = points[own]
+                .iter()
+                .filter(|p| p.special == Some(SpecialKind::PeriodDoubling))
+                .cloned()
+                .collect();
+            let mut rejoined: Vec<f64> = Vec::new();
+            for pd in &doublings {
+                // The nearest period doubling to where an earlier switched branch rejoined
+                // this one, within a step, is that branch's other end.
+                if rejoined.iter().any(|r| {
+                    let nearest = doublings
+                        .iter()
+                        .map(|d| d.parameter)
+                        .min_by(|a, b| (a - r).abs().total_cmp(&(b - r).abs()));
+                    nearest == Some(pd.parameter) && (pd.parameter - r).abs() <= options.max_step
+                }) {
+                    continue;
+                }
+                let multiple = branches[i].multiple;
+                match switch_branch(family, multiple, pd, options, solver) {
+                    Ok(branch) => {
+                        if let BranchEnd::Rejoined { parameter } = branch.end {
+                            rejoined.push(parameter);
+                        }
+                        let depth = branches[i].depth + 1;
+                        branches.push(Followed {
+                            multiple: 2 * multiple,
+                            switched_from: Some((i, pd.parameter)),
+                            depth,
+                            branch,
+                        });
+                    }
+                    Err(e) => failures.push((i, pd.parameter, e.to_string())),
+                }
+            }
+        }
+        i += 1;
+    }
+    (branches, failures)
 }

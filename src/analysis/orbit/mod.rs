@@ -38,7 +38,7 @@ pub mod variational;
 
 pub use continuation::{
     Branch, BranchEnd, BranchPoint, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind,
-    continue_orbit,
+    continue_orbit, switch_branch,
 };
 pub use monodromy::{Shot, shoot, shoot_watching};
 pub use saltation::{SaltationError, saltation_matrix};

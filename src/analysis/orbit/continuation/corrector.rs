@@ -42,7 +42,7 @@ pub(super) struct Solved {
 }
 
 /// Integrates `f` without variational equations from (t0, y0) to t1.
-fn plain<F: Formulation + Clone>(
+pub(super) fn plain<F: Formulation + Clone>(
     f: &F,
     t0: f64,
     y0: &[f64],
@@ -150,12 +150,16 @@ pub(super) fn correct<Fam: OrbitFamily>(
         iterations += 1;
         let delta = newton_step(&ev, &y, p, y_pred, p_pred, c, &g_p, scales)
             .ok_or_else(|| fail("the augmented Jacobian is singular".into(), &history))?;
+        // The step in units of ε, the parameter's included (ε_p = rtol·max(|p|, σ_p)): with
+        // the amplitude fixed (a switched branch's first point) the state hardly moves while p
+        // does.
         let step = ev
             .active
             .iter()
             .zip(delta.iter())
             .map(|(&i, d)| d.abs() / eps(y[i], y[i]))
-            .fold(0.0, f64::max);
+            .fold(0.0, f64::max)
+            .max(delta[ev.active.len()].abs() / (tol.rtol * p.abs().max(scales.parameter)));
         let near = ev.rho <= newton.closing_limit;
         let mut lambda = 1.0;
         let mut halvings = 0;

@@ -53,12 +53,15 @@
 
 mod corrector;
 pub mod special;
+mod switch;
 
 use serde::Serialize;
 
 use self::corrector::{Newton, Solved, augmented_jacobian, correct};
 pub use self::special::SpecialKind;
 use self::special::{Observed, changes, regula_falsi, signed_distance};
+use self::switch::Halving;
+pub use self::switch::switch_branch;
 use super::floquet::{multipliers, restricted, split_trivial};
 use crate::analysis::AnalysisError;
 use crate::formulation::{Crossing, Formulation};
@@ -193,8 +196,15 @@ pub struct BranchPoint {
 pub enum BranchEnd {
     /// The last point is at `to`.
     Reached,
-    /// The branch turned back (a fold) and left the range at `from`.
+    /// The branch left the range at `from`: it turned back (a fold), or a period-2K branch
+    /// ([`switch_branch`]) headed that way.
     TurnedBack,
+    /// A period-2K branch rejoined the period-K branch it started from, at a period doubling
+    /// of that branch (its last point, marked [`SpecialKind::PeriodDoubling`]).
+    Rejoined {
+        /// The parameter where the two halves of the period became one.
+        parameter: f64,
+    },
     /// `max_points` points.
     MaxPoints,
     /// No point was found beyond the last with the smallest step.
@@ -243,6 +253,8 @@ struct Point {
     impacts: usize,
     /// The unit tangent (scaled, states then p; zeros at inactive states).
     tangent: Vec<f64>,
+    /// On a period-2K branch, x − P_half(x) ([`Halving::halves`]); empty otherwise.
+    halves: Vec<f64>,
 }
 
 impl Point {
@@ -307,22 +319,12 @@ pub fn continue_orbit<Fam: OrbitFamily>(
     validate(guess, options)?;
     let n = guess.len();
     let mut stats = SolverStats::default();
-    let newton = |iterations| Newton {
-        max_iterations: iterations,
-        max_halvings: options.max_halvings,
-        step_tolerance: options.step_tolerance,
-        closing_limit: options.closing_limit,
-        fd_step: options
-            .fd_step
-            .unwrap_or_else(|| solver.controlled_tolerances().rtol.sqrt()),
-    };
     let dir = (options.to - options.from).signum();
     let scales = Scales {
         state: guess.iter().map(|y| y.abs().max(1.0)).collect(),
         parameter: (options.to - options.from).abs(),
     };
-    let mut e_p = vec![0.0; n + 1];
-    e_p[n] = 1.0;
+    let e_p = parameter_direction(n);
     let start_direction: Vec<f64> = e_p.iter().map(|c| c * dir).collect();
 
     let first = correct(
@@ -331,7 +333,7 @@ pub fn continue_orbit<Fam: OrbitFamily>(
         options.from,
         &e_p,
         &scales,
-        &newton(options.first_iterations),
+        &newton(options, solver, options.first_iterations),
         solver,
         &mut stats,
     )
@@ -353,145 +355,303 @@ pub fn continue_orbit<Fam: OrbitFamily>(
             "the tangent of the branch at the start cannot be formed (singular augmented Jacobian)",
         ));
     };
-    let mut rows = vec![first.row(None)];
-    let mut unlocated = Vec::new();
-    let mut last = first;
-    let ds_max = options.max_step / scales.parameter;
-    let ds_min = options.min_step / scales.parameter;
-    let mut ds = ds_max;
-    let end = loop {
-        if rows.len() >= options.max_points {
-            break BranchEnd::MaxPoints;
-        }
-        let v = last.tangent.clone();
-        let w_last = last.w(&scales);
-        let p_last = last.solved.p;
-        let p_at = |s: f64| (w_last[n] + s * v[n]) * scales.parameter;
-        // The step that lands on `to`, when this one would pass it.
-        let to_reach = if v[n] * dir > 0.0 && dir * (p_at(ds) - options.to) >= 0.0 {
-            Some((options.to - p_last) / scales.parameter / v[n])
-        } else {
-            None
-        };
-        if to_reach.is_none() && dir * (p_at(ds) - options.from) < 0.0 {
-            break BranchEnd::TurnedBack;
-        }
-        let (s_step, c) = match to_reach {
-            Some(s) => (s, e_p.clone()),
-            None => (ds, v.clone()),
-        };
-        let at = |s: f64, stats: &mut SolverStats| {
-            let y: Vec<f64> = (0..n)
-                .map(|i| (w_last[i] + s * v[i]) * scales.state[i])
-                .collect();
-            let p = if to_reach.is_some() && s == s_step {
-                options.to
-            } else {
-                p_at(s)
-            };
-            correct(
-                family,
-                &y,
-                p,
-                &c,
-                &scales,
-                &newton(options.max_iterations),
-                solver,
-                stats,
-            )
-            .and_then(|s| {
-                finish(s, &v, &scales, family.contact_events()).ok_or_else(|| {
-                    AnalysisError::invalid("continuation", "singular augmented Jacobian")
-                })
-            })
-        };
-        let next = match at(s_step, &mut stats) {
-            Ok(next) => next,
-            Err(e) => {
-                ds *= 0.5;
-                if ds < ds_min {
-                    break BranchEnd::Failed {
-                        message: e.to_string(),
-                    };
-                }
-                continue;
-            }
-        };
-        // Special points within the step, each located along it.
-        let mut found: Vec<(f64, Point, SpecialKind)> = Vec::new();
-        let (lo, hi) = (last.observed(), next.observed());
-        for kind in changes(&lo, &hi, options.multiplier_tolerance) {
-            let tol = options.multiplier_tolerance;
-            let psi_of = |o: &Observed<'_>| signed_distance(kind, &lo, &hi, o, tol);
-            let mut best: Option<(f64, f64, Point)> = None;
-            let mut failure = None;
-            let seen = regula_falsi(
-                psi_of(&lo),
-                psi_of(&hi),
-                s_step,
-                options.locate_tolerance / scales.parameter,
-                options.locate_evaluations,
-                |s| match at(s, &mut stats) {
-                    Ok(pt) => {
-                        let psi = psi_of(&pt.observed());
-                        if best.as_ref().is_none_or(|b| psi.abs() < b.1.abs()) {
-                            best = Some((s, psi, pt));
-                        }
-                        Some(psi)
-                    }
-                    Err(e) => {
-                        failure = Some(e.to_string());
-                        None
-                    }
-                },
-            );
-            match best {
-                // A count that changes with no multiplier near the crossing along the step is a
-                // jump (noise in the multipliers), not a crossing.
-                Some((_, psi, _)) if kind != SpecialKind::Grazing && psi.abs() > LOCATED => {
-                    unlocated.push((
-                        kind,
-                        next.solved.p,
-                        format!(
-                            "no point along the step has a multiplier within {LOCATED} of the crossing (closest {:.3}): a jump of the multipliers, not a crossing; tighten rtol",
-                            psi.abs()
-                        ),
-                    ))
-                }
-                Some((s, _, pt)) => found.push((s, pt, kind)),
-                None => unlocated.push((
-                    kind,
-                    next.solved.p,
-                    failure.unwrap_or_else(|| format!("{} trial points", seen.len())),
-                )),
-            }
-        }
-        found.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for (_, pt, kind) in &found {
-            rows.push(pt.row(Some(*kind)));
-        }
-        let iterations = next.solved.iterations;
-        rows.push(next.row(None));
-        last = next;
-        if to_reach.is_some() {
-            break BranchEnd::Reached;
-        }
-        // Newton converges linearly here (the monodromy in contact is ~1e-3 accurate), so an
-        // iteration more on a longer step is cheaper than more steps: grow unless the
-        // correction came near its limit.
-        if iterations <= GROW_BELOW {
-            ds = (ds * 1.5).min(ds_max);
-        } else if iterations >= options.max_iterations.saturating_sub(2) {
-            ds *= 0.7;
-        }
-        ds = ds.max(ds_min);
+    let rows = vec![first.row(None)];
+    let march = Marching {
+        options,
+        solver,
+        scales: &scales,
+        halves: None,
     };
+    let (points, unlocated, end) = march.run(
+        family,
+        first,
+        rows,
+        options.max_step / scales.parameter,
+        &mut stats,
+    );
     Ok(Branch {
-        points: rows,
+        points,
         unlocated,
         end,
         stats,
     })
+}
+
+/// The corrector's settings for `iterations` iterations.
+fn newton(options: &ContinuationOptions, solver: &SolverOptions, iterations: usize) -> Newton {
+    Newton {
+        max_iterations: iterations,
+        max_halvings: options.max_halvings,
+        step_tolerance: options.step_tolerance,
+        closing_limit: options.closing_limit,
+        fd_step: options
+            .fd_step
+            .unwrap_or_else(|| solver.controlled_tolerances().rtol.sqrt()),
+    }
+}
+
+/// e_p: the condition that fixes the parameter (scaled coordinates, n states then p).
+fn parameter_direction(n: usize) -> Vec<f64> {
+    let mut e_p = vec![0.0; n + 1];
+    e_p[n] = 1.0;
+    e_p
+}
+
+/// What a march along a branch needs besides its family and first point.
+struct Marching<'a> {
+    options: &'a ContinuationOptions,
+    solver: &'a SolverOptions,
+    scales: &'a Scales,
+    /// For a period-2K branch ([`switch`]): its halves, whose difference vanishing ends the
+    /// branch where it rejoins the period-K branch.
+    halves: Option<&'a dyn Halving>,
+}
+
+impl Marching<'_> {
+    /// A corrected point with its tangent (oriented along `previous`) and, on a period-2K
+    /// branch, its halves' difference.
+    fn point<Fam: OrbitFamily>(
+        &self,
+        family: &Fam,
+        solved: Solved,
+        previous: &[f64],
+        stats: &mut SolverStats,
+    ) -> Result<Point, AnalysisError> {
+        let halves = match self.halves {
+            Some(h) => h.halves(&solved, stats)?,
+            None => Vec::new(),
+        };
+        let mut pt = finish(solved, previous, self.scales, family.contact_events())
+            .ok_or_else(|| AnalysisError::invalid("continuation", "singular augmented Jacobian"))?;
+        pt.halves = halves;
+        Ok(pt)
+    }
+
+    /// max_i |d_i|/ε_i of a point's halves' difference d (module [`switch`]).
+    fn halves_apart(&self, pt: &Point) -> f64 {
+        let tol = self.solver.controlled_tolerances();
+        pt.halves
+            .iter()
+            .zip(&pt.solved.y)
+            .map(|(d, y)| d.abs() / (tol.atol + tol.rtol * y.abs()))
+            .fold(0.0, f64::max)
+    }
+
+    /// |d|² in scaled coordinates.
+    fn scaled_square(&self, d: &[f64]) -> f64 {
+        d.iter()
+            .zip(&self.scales.state)
+            .map(|(d, s)| (d / s).powi(2))
+            .sum()
+    }
+
+    /// Marches from `first` (whose row `rows` ends with) with steps from `ds` (scaled
+    /// arclength) until the branch reaches `to`, leaves the range at `from`, rejoins the
+    /// period-K branch (a period-2K branch), or fails.
+    fn run<Fam: OrbitFamily>(
+        &self,
+        family: &Fam,
+        first: Point,
+        mut rows: Vec<BranchPoint>,
+        ds: f64,
+        stats: &mut SolverStats,
+    ) -> (Vec<BranchPoint>, Vec<(SpecialKind, f64, String)>, BranchEnd) {
+        let (options, scales, solver) = (self.options, self.scales, self.solver);
+        let n = first.solved.y.len();
+        let dir = (options.to - options.from).signum();
+        let e_p = parameter_direction(n);
+        let mut unlocated = Vec::new();
+        let mut last = first;
+        let ds_max = options.max_step / scales.parameter;
+        let ds_min = options.min_step / scales.parameter;
+        let mut ds = ds.clamp(ds_min, ds_max);
+        // The parameter and halves' size of the point before `last` on a period-2K branch.
+        let mut before_last: Option<(f64, f64)> = None;
+        let end = loop {
+            if rows.len() >= options.max_points {
+                break BranchEnd::MaxPoints;
+            }
+            let v = last.tangent.clone();
+            let w_last = last.w(scales);
+            let p_last = last.solved.p;
+            let p_at = |s: f64| (w_last[n] + s * v[n]) * scales.parameter;
+            // The step that lands on `to`, when this one would pass it.
+            let to_reach = if v[n] * dir > 0.0 && dir * (p_at(ds) - options.to) >= 0.0 {
+                Some((options.to - p_last) / scales.parameter / v[n])
+            } else {
+                None
+            };
+            if to_reach.is_none() && dir * (p_at(ds) - options.from) < 0.0 {
+                break BranchEnd::TurnedBack;
+            }
+            let (s_step, c) = match to_reach {
+                Some(s) => (s, e_p.clone()),
+                None => (ds, v.clone()),
+            };
+            let at = |s: f64, stats: &mut SolverStats| {
+                let y: Vec<f64> = (0..n)
+                    .map(|i| (w_last[i] + s * v[i]) * scales.state[i])
+                    .collect();
+                let p = if to_reach.is_some() && s == s_step {
+                    options.to
+                } else {
+                    p_at(s)
+                };
+                correct(
+                    family,
+                    &y,
+                    p,
+                    &c,
+                    scales,
+                    &newton(options, solver, options.max_iterations),
+                    solver,
+                    stats,
+                )
+                .and_then(|solved| self.point(family, solved, &v, stats))
+            };
+            let next = match at(s_step, stats) {
+                Ok(next) => next,
+                Err(e) => {
+                    ds *= 0.5;
+                    if ds < ds_min {
+                        break BranchEnd::Failed {
+                            message: e.to_string(),
+                        };
+                    }
+                    continue;
+                }
+            };
+            // A period-2K branch that nears the period-K branch ends at the junction
+            // ([`switch`], "Where it ends").
+            if let Some(halving) = self.halves {
+                let size = |d: &[f64]| self.scaled_square(d);
+                let (a_last, a_next) = (size(&last.halves), size(&next.halves));
+                let flipped = next
+                    .halves
+                    .iter()
+                    .zip(&last.halves)
+                    .map(|(a, b)| a * b)
+                    .sum::<f64>()
+                    < 0.0;
+                let collapsed = self.halves_apart(&next) <= options.closing_limit;
+                let near = switch::near_junction(&next.multipliers) && a_next < a_last;
+                // A step that jumped past the junction is retried shorter: the square-root
+                // law below is best from points near it.
+                if (flipped || collapsed) && !near && ds > 4.0 * ds_min {
+                    ds *= 0.25;
+                    continue;
+                }
+                if flipped || collapsed || near {
+                    // The square-root law through the last two points on the branch.
+                    let (pair, at) = if near && !flipped && !collapsed {
+                        rows.push(next.row(None));
+                        (Some((last.solved.p, a_last)), &next)
+                    } else {
+                        (before_last, &last)
+                    };
+                    let a_at = size(&at.halves);
+                    let p_junction = match pair {
+                        Some((p1, a1)) if a1 > a_at && p1 != at.solved.p => {
+                            at.solved.p - a_at * (at.solved.p - p1) / (a_at - a1)
+                        }
+                        _ => at.solved.p,
+                    };
+                    let mid: Vec<f64> = at
+                        .solved
+                        .y
+                        .iter()
+                        .zip(&at.halves)
+                        .map(|(y, d)| y - 0.5 * d)
+                        .collect();
+                    let reach = (p_junction - at.solved.p).abs();
+                    match halving.junction(p_junction, &mid, reach, stats) {
+                        Ok(row) => {
+                            let parameter = row.parameter;
+                            rows.push(row);
+                            break BranchEnd::Rejoined { parameter };
+                        }
+                        Err(e) => {
+                            break BranchEnd::Failed {
+                                message: format!(
+                                    "the branch neared the period-K orbits, but none was found at the junction p = {p_junction} predicted by the square-root law: {e}"
+                                ),
+                            };
+                        }
+                    }
+                }
+                before_last = Some((last.solved.p, a_last));
+            }
+            // Special points within the step, each located along it.
+            let mut found: Vec<(f64, Point, SpecialKind)> = Vec::new();
+            let (lo, hi) = (last.observed(), next.observed());
+            for kind in changes(&lo, &hi, options.multiplier_tolerance) {
+                let tol = options.multiplier_tolerance;
+                let psi_of = |o: &Observed<'_>| signed_distance(kind, &lo, &hi, o, tol);
+                let mut best: Option<(f64, f64, Point)> = None;
+                let mut failure = None;
+                let seen = regula_falsi(
+                    psi_of(&lo),
+                    psi_of(&hi),
+                    s_step,
+                    options.locate_tolerance / scales.parameter,
+                    options.locate_evaluations,
+                    |s| match at(s, stats) {
+                        Ok(pt) => {
+                            let psi = psi_of(&pt.observed());
+                            if best.as_ref().is_none_or(|b| psi.abs() < b.1.abs()) {
+                                best = Some((s, psi, pt));
+                            }
+                            Some(psi)
+                        }
+                        Err(e) => {
+                            failure = Some(e.to_string());
+                            None
+                        }
+                    },
+                );
+                match best {
+                    // A count that changes with no multiplier near the crossing along the step is a
+                    // jump (noise in the multipliers), not a crossing.
+                    Some((_, psi, _)) if kind != SpecialKind::Grazing && psi.abs() > LOCATED => {
+                        unlocated.push((
+                            kind,
+                            next.solved.p,
+                            format!(
+                                "no point along the step has a multiplier within {LOCATED} of the crossing (closest {:.3}): a jump of the multipliers, not a crossing; tighten rtol",
+                                psi.abs()
+                            ),
+                        ))
+                    }
+                    Some((s, _, pt)) => found.push((s, pt, kind)),
+                    None => unlocated.push((
+                        kind,
+                        next.solved.p,
+                        failure.unwrap_or_else(|| format!("{} trial points", seen.len())),
+                    )),
+                }
+            }
+            found.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for (_, pt, kind) in &found {
+                rows.push(pt.row(Some(*kind)));
+            }
+            let iterations = next.solved.iterations;
+            rows.push(next.row(None));
+            last = next;
+            if to_reach.is_some() {
+                break BranchEnd::Reached;
+            }
+            // Newton converges linearly here (the monodromy in contact is ~1e-3 accurate), so an
+            // iteration more on a longer step is cheaper than more steps: grow unless the
+            // correction came near its limit.
+            if iterations <= GROW_BELOW {
+                ds = (ds * 1.5).min(ds_max);
+            } else if iterations >= options.max_iterations.saturating_sub(2) {
+                ds *= 0.7;
+            }
+            ds = ds.max(ds_min);
+        };
+        (rows, unlocated, end)
+    }
 }
 
 /// Multipliers, impacts and the unit tangent of a corrected point (the tangent's sign: along
@@ -532,6 +692,7 @@ fn finish(solved: Solved, previous: &[f64], scales: &Scales, contacts: usize) ->
         impacts,
         tangent,
         solved,
+        halves: Vec::new(),
     })
 }
 
