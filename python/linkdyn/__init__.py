@@ -44,6 +44,7 @@ from ._analyses import (
     PhasePortrait,
     PoincareSection,
     Spectrum,
+    Wear,
 )
 from ._errors import (
     AnalysisError,
@@ -156,6 +157,7 @@ __all__ = [
     "LyapunovExponent",
     "PeriodicOrbit",
     "Continuation",
+    "Wear",
     "LinkdynError",
     "ModelError",
     "SettingsError",

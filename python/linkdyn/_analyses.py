@@ -1,5 +1,5 @@
 """Results of the analyses (``Model.poincare``, ``bifurcation``, ``spectrum``, ``phase``,
-``lyapunov``, ``orbit``, ``continuation``): plain, frozen records of NumPy arrays, built by
+``lyapunov``, ``orbit``, ``continuation``) and of ``Model.wear``: plain, frozen records of NumPy arrays, built by
 the compiled core.
 
 Each holds the numbers the matching ``linkdyn`` command writes to its CSV file, bit for bit,
@@ -491,5 +491,69 @@ class Continuation:
         )
 
 
+@dataclass(frozen=True, repr=False)
+class Wear:
+    """Archard wear of a clearance joint's bearing (``linkdyn wear``: its ``wear.csv`` as
+    arrays, the depth by update and bin, and its ``wear.json``'s keys; docs/wear.md).
+
+    ``w.depth_m[-1]`` is the final profile, bin ``i`` centred at ``w.theta_rad[i]`` in the
+    bearing frame; row 0 is the unworn bearing.
+    """
+
+    #: The worn joint.
+    joint: str
+    #: Driver turns run in all.
+    turns: int
+    #: Profile update interval (driver turns).
+    update_every: int
+    #: Angular bins of the profile.
+    bins: int
+    #: Radial clearance of the unworn bearing (m).
+    clearance_m: float
+    #: The wear law's data: ``coefficient_m2_per_n``, ``length_m``, ``bearing_radius_m``,
+    #: ``hertz_factor_m2_per_n``.
+    archard: Dict[str, Any]
+    #: The final profile: ``max_depth_m``, ``max_depth_angle_rad``, ``mean_depth_m``,
+    #: ``worn_area_m2``, ``worn_volume_m3``.
+    summary: Dict[str, Any]
+    #: Per update: ``index``, ``t``, ``turns``, ``eccentricity_m``, ``max_depth_m``.
+    updates: List[Dict[str, Any]]
+    #: Solver statistics of all intervals together.
+    stats: Dict[str, Any]
+    #: Bin centres (rad, bearing frame).
+    theta_rad: FloatArray
+    #: Time of each update (s; 0: the start).
+    t: FloatArray
+    #: Driver turns at each update.
+    update_turns: FloatArray
+    #: The journal's distance from the bearing centre after each update (m).
+    eccentricity_m: FloatArray
+    #: Wear depth (m), shape (updates + 1, bins).
+    depth_m: FloatArray
+    #: The provenance of the command's files (settings include the study's).
+    provenance: Dict[str, Any] = field(compare=False)
+
+    def to_pandas(self) -> Any:
+        """The command's ``wear.csv`` as a ``pandas.DataFrame`` (long format
+        ``update,t,turns,bin,theta_rad,depth_m``)."""
+        n, bins = self.depth_m.shape
+        return _frame({
+            "update": np.repeat(np.arange(n), bins),
+            "t": np.repeat(self.t, bins),
+            "turns": np.repeat(self.update_turns, bins),
+            "bin": np.tile(np.arange(bins), n),
+            "theta_rad": np.tile(self.theta_rad, n),
+            "depth_m": self.depth_m.ravel(),
+        }, "Wear")
+
+    def __repr__(self) -> str:
+        s = self.summary
+        return (
+            f"<linkdyn.Wear of joint {self.joint}: {self.turns} turns, {len(self.t) - 1} "
+            f"updates; deepest {s['max_depth_m']:.3g} m at "
+            f"{np.degrees(s['max_depth_angle_rad']):.3g} deg>"
+        )
+
+
 __all__ = ["PoincareSection", "Bifurcation", "Spectrum", "PhasePortrait", "LyapunovExponent",
-           "PeriodicOrbit", "Continuation"]
+           "PeriodicOrbit", "Continuation", "Wear"]

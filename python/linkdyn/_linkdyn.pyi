@@ -13,6 +13,7 @@ from ._analyses import (
     PhasePortrait,
     PoincareSection,
     Spectrum,
+    Wear,
 )
 
 FloatArray = npt.NDArray[np.float64]
@@ -317,6 +318,7 @@ class Model:
         step: Optional[float] = None,
         period_turns: int = 1,
         guess_from_turn: int = 3,
+        follow_doublings: int = 0,
         dt: float = 1e-4,
         formulation: str = "reduced",
         method: str = "dop853",
@@ -327,9 +329,28 @@ class Model:
     ) -> Continuation:
         """The periodic orbit continued in the model field ``param`` from ``from_`` to ``to``
         (``linkdyn continue``): pseudo-arclength steps of at most ``step`` (default
-        |to − from_|/20), folds, period doublings, Neimark–Sacker points and grazings located.
-        The command's ``F.csv`` as arrays and its ``F.json``'s keys; see ``Continuation``. A
-        branch that stops before ``to`` is returned with a ``RuntimeWarning``."""
+        |to − from_|/20), folds, period doublings, Neimark–Sacker points and grazings located;
+        with ``follow_doublings`` N the period-2K branch from each located period doubling too,
+        N doublings deep (rows' ``branch`` and ``turn``). The command's ``F.csv`` as arrays and
+        its ``F.json``'s keys; see ``Continuation``. A branch that stops before ``to`` is
+        returned with a ``RuntimeWarning``."""
+    def wear(
+        self,
+        turns: int,
+        *,
+        update_every: int = 1,
+        dt: float = 1e-4,
+        formulation: str = "dae",
+        method: str = "dop853",
+        rtol: float = 1e-8,
+        atol: float = 1e-10,
+        max_steps: int = 10_000_000,
+        max_wall: Optional[float] = None,
+    ) -> Wear:
+        """Archard wear of the model's worn clearance joint (``[joints.wear]``) over ``turns``
+        driver turns, the bearing profile updated every ``update_every`` turns (``linkdyn
+        wear``; DAE only). The command's ``wear.csv`` as arrays (``depth_m`` by update and
+        bin) and its ``wear.json``'s keys; see ``Wear``."""
 
 class Result:
     """A finished run: times, one read-only float64 array per column, events, summary."""

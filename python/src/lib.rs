@@ -15,6 +15,7 @@ mod orbit;
 mod result;
 mod settings;
 mod sweep;
+mod wear;
 
 use pyo3::prelude::*;
 

@@ -628,6 +628,26 @@ impl PyModel {
         orbit::branch(py, &self.model, &self.path, &text, &solve, args)
     }
 
+    /// Archard wear of the model's worn clearance joint (the one with `[joints.wear]`) over
+    /// `turns` driver turns, the bearing profile updated every `update_every` turns (default
+    /// 1): `linkdyn wear`. DAE formulation only. Returns a `linkdyn.Wear` (the command's
+    /// `wear.csv` as arrays, `depth_m` by update and bin, and its `wear.json`'s keys); the GIL
+    /// is released while Rust integrates.
+    ///
+    /// Raises `SettingsError` (another formulation, zero turns, no worn joint or more than one,
+    /// a model without one driver), `SolverError` (a failed integration).
+    #[pyo3(signature = (turns, *, update_every = 1, **solve))]
+    fn wear<'py>(
+        &self,
+        py: Python<'py>,
+        turns: i64,
+        update_every: i64,
+        solve: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let solve = Solve::from_kwargs("wear", solve)?;
+        crate::wear::wear_study(py, &self.model, &self.path, &solve, turns, update_every)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "<linkdyn.Model {:?} from {:?}: {} bodies, {} joints, {} drivers>",

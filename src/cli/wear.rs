@@ -93,7 +93,7 @@ fn csv_text(r: &WearResult) -> String {
     let mut text = csv_head(
         "update,t,turns,bin,theta_rad,depth_m",
         r.provenance.clone(),
-        &settings(r),
+        &r.settings(),
     );
     for u in &r.updates {
         for (i, (theta, h)) in r.bin_centres.iter().zip(&u.depth).enumerate() {
@@ -110,65 +110,9 @@ fn csv_text(r: &WearResult) -> String {
     text
 }
 
-/// The study's settings, for the provenance of both files.
-fn settings(r: &WearResult) -> Vec<(&'static str, String)> {
-    vec![
-        ("wear_joint", r.joint.clone()),
-        ("wear_turns", r.turns.to_string()),
-        ("wear_update_every", r.update_every.to_string()),
-        ("wear_bins", r.bin_centres.len().to_string()),
-        (
-            "wear_coefficient_m2_per_n",
-            format_number(r.archard.coefficient),
-        ),
-        ("wear_length_m", format_number(r.archard.length)),
-    ]
-}
-
-/// wear.json: provenance (with the study's settings), the wear law's data, the summary, the
-/// journal's eccentricity and deepest wear after each update, and the solver's cost.
+/// wear.json: [`WearResult::summary_json`].
 fn json_text(r: &WearResult) -> Result<String, Failure> {
-    let mut provenance = r.provenance.clone();
-    for (k, v) in settings(r) {
-        provenance.settings.insert(k.to_string(), v);
-    }
-    let updates: Vec<_> = r
-        .updates
-        .iter()
-        .map(|u| {
-            serde_json::json!({
-                "index": u.index,
-                "t": u.t,
-                "turns": u.turns,
-                "eccentricity_m": u.eccentricity,
-                "max_depth_m": u.depth.iter().copied().fold(0.0, f64::max),
-            })
-        })
-        .collect();
-    let value = serde_json::json!({
-        "joint": r.joint,
-        "turns": r.turns,
-        "update_every": r.update_every,
-        "bins": r.bin_centres.len(),
-        "clearance_m": r.clearance,
-        "archard": {
-            "coefficient_m2_per_n": r.archard.coefficient,
-            "length_m": r.archard.length,
-            "bearing_radius_m": r.archard.bearing_radius,
-            "hertz_factor_m2_per_n": r.archard.hertz_factor,
-        },
-        "summary": {
-            "max_depth_m": r.summary.max_depth,
-            "max_depth_angle_rad": r.summary.max_depth_angle,
-            "mean_depth_m": r.summary.mean_depth,
-            "worn_area_m2": r.summary.worn_area,
-            "worn_volume_m3": r.summary.worn_volume,
-        },
-        "updates": updates,
-        "stats": r.stats,
-        "provenance": provenance,
-    });
-    serde_json::to_string_pretty(&value)
+    serde_json::to_string_pretty(&r.summary_json())
         .map(|s| s + "\n")
         .map_err(|e| bad("out", format!("cannot encode wear.json: {e}")))
 }

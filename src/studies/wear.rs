@@ -89,6 +89,68 @@ pub struct WearResult {
     pub provenance: Provenance,
 }
 
+impl WearResult {
+    /// The study's settings, for the provenance of its files (`wear_joint`, `wear_turns`,
+    /// `wear_update_every`, `wear_bins`, `wear_coefficient_m2_per_n`, `wear_length_m`).
+    pub fn settings(&self) -> Vec<(&'static str, String)> {
+        let fmt = crate::numbers::format_number;
+        vec![
+            ("wear_joint", self.joint.clone()),
+            ("wear_turns", self.turns.to_string()),
+            ("wear_update_every", self.update_every.to_string()),
+            ("wear_bins", self.bin_centres.len().to_string()),
+            ("wear_coefficient_m2_per_n", fmt(self.archard.coefficient)),
+            ("wear_length_m", fmt(self.archard.length)),
+        ]
+    }
+
+    /// The summary file `wear.json` of `linkdyn wear` (docs/wear.md, "Files"): the provenance
+    /// with the study's settings, the wear law's data, the summary, the journal's eccentricity
+    /// and the deepest wear after each update, and the solver's cost.
+    pub fn summary_json(&self) -> serde_json::Value {
+        let mut provenance = self.provenance.clone();
+        for (k, v) in self.settings() {
+            provenance.settings.insert(k.to_string(), v);
+        }
+        let updates: Vec<_> = self
+            .updates
+            .iter()
+            .map(|u| {
+                serde_json::json!({
+                    "index": u.index,
+                    "t": u.t,
+                    "turns": u.turns,
+                    "eccentricity_m": u.eccentricity,
+                    "max_depth_m": u.depth.iter().copied().fold(0.0, f64::max),
+                })
+            })
+            .collect();
+        serde_json::json!({
+            "joint": self.joint,
+            "turns": self.turns,
+            "update_every": self.update_every,
+            "bins": self.bin_centres.len(),
+            "clearance_m": self.clearance,
+            "archard": {
+                "coefficient_m2_per_n": self.archard.coefficient,
+                "length_m": self.archard.length,
+                "bearing_radius_m": self.archard.bearing_radius,
+                "hertz_factor_m2_per_n": self.archard.hertz_factor,
+            },
+            "summary": {
+                "max_depth_m": self.summary.max_depth,
+                "max_depth_angle_rad": self.summary.max_depth_angle,
+                "mean_depth_m": self.summary.mean_depth,
+                "worn_area_m2": self.summary.worn_area,
+                "worn_volume_m3": self.summary.worn_volume,
+            },
+            "updates": updates,
+            "stats": self.stats,
+            "provenance": provenance,
+        })
+    }
+}
+
 /// Runs the wear study on `sim`'s model (see the module documentation).
 ///
 /// Errors: [`Error::Settings`] for a formulation other than the DAE, a model without exactly
