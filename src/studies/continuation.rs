@@ -67,7 +67,8 @@ pub struct ContinuationRow {
     pub stable: bool,
     /// Impacts (contact onsets) over one period, all clearance joints.
     pub impacts_per_period: usize,
-    /// Smallest gap c − |e| over the step ends of one period (m); negative: the deepest
+    /// Smallest gap c − |e| over one period (m; at the step ends and at the gap's minima
+    /// located inside the steps); negative: the deepest
     /// penetration.
     pub min_gap_m: Option<f64>,
     /// Closing error max_i |P(x)_i − x_i|/ε_i (units of the integration tolerance).

@@ -19,7 +19,8 @@ pub struct Shot {
     pub cleared: Vec<bool>,
     /// Cost of the integration.
     pub stats: SolverStats,
-    /// Smallest −g_k over the step ends of the period and the watched events k ([`shoot_watching`];
+    /// Smallest −g_k over the period for the watched events k, at the step ends and at the
+    /// maxima of g_k located inside the steps ([`shoot_watching`];
     /// for contact events, whose g is the penetration δ, the smallest gap, m). `None` when none
     /// were watched.
     pub min_gap: Option<f64>,
@@ -67,17 +68,22 @@ pub fn shoot_watching<F: Formulation + Clone>(
     let mut min_gap = None;
     let stats = {
         let mut stepper = Stepper::new(&mut wrapped, t0, &start, t1, opts).map_err(solve)?;
-        let mut g = vec![0.0; if watch > 0 { f.n_events() } else { 0 }];
-        let mut watcher = |t: f64, y: &[f64]| {
-            if watch > 0 {
-                f.events(t, &y[..n], &mut g);
-                for gk in g.iter().take(watch) {
-                    min_gap = Some(min_gap.map_or(-gk, |m: f64| m.min(-gk)));
-                }
+        if watch == 0 {
+            while stepper.step().map_err(solve)? != Stop::EndReached {}
+            stepper.interpolate(t1, &mut end).map_err(solve)?;
+        } else {
+            let mut gaps = GapWatch::new(f, watch);
+            gaps.at_step_end(t0, &start);
+            while stepper.step().map_err(solve)? != Stop::EndReached {
+                let (t, y) = (stepper.t(), stepper.y().to_vec());
+                gaps.at_step_end(t, &y);
+                gaps.peak_inside(&mut stepper).map_err(solve)?;
             }
-        };
-        watcher(t0, &start);
-        run_to_end(&mut stepper, t1, &mut end, &mut watcher).map_err(solve)?;
+            stepper.interpolate(t1, &mut end).map_err(solve)?;
+            gaps.at_step_end(t1, &end);
+            gaps.peak_inside(&mut stepper).map_err(solve)?;
+            min_gap = gaps.min_gap;
+        }
         stepper.stats().clone()
     };
     if let Some(e) = wrapped.failure() {
@@ -94,16 +100,117 @@ pub fn shoot_watching<F: Formulation + Clone>(
     })
 }
 
-fn run_to_end<F: Formulation>(
-    stepper: &mut Stepper<'_, F>,
-    t_end: f64,
-    out: &mut [f64],
-    at_step_end: &mut impl FnMut(f64, &[f64]),
-) -> Result<(), SolveError> {
-    while stepper.step()? != Stop::EndReached {
-        at_step_end(stepper.t(), stepper.y());
+/// Golden-section iterations for a located peak of g: 0.618⁶⁰ ≈ 3e-13 of the step.
+const PEAK_ITERATIONS: usize = 60;
+
+/// The smallest gap −g_k of the watched event functions over a shot: at the step ends, and at
+/// the located maxima of g_k inside the steps (a journal that nears the bearing wall and turns
+/// back inside a step; docs/periodic_orbits.md, "Continuation").
+///
+/// A maximum lies inside a step where ġ_k goes from positive at its start to negative at its
+/// end; ġ_k is a forward difference of g_k along f at each step end (one evaluation of the
+/// formulation's own right-hand side, not the variational equations'). The maximum is then
+/// found by golden-section search on the step's dense output.
+struct GapWatch<'a, F> {
+    f: &'a F,
+    watch: usize,
+    n: usize,
+    g: Vec<f64>,
+    dy: Vec<f64>,
+    probe: Vec<f64>,
+    /// At the last step end: t, g_k and the sign of ġ_k for the watched k.
+    last: Option<(f64, Vec<f64>, Vec<bool>)>,
+    /// At the one before.
+    before: Option<(f64, Vec<f64>, Vec<bool>)>,
+    min_gap: Option<f64>,
+}
+
+impl<'a, F: Formulation> GapWatch<'a, F> {
+    fn new(f: &'a F, watch: usize) -> Self {
+        let n = f.n_states();
+        GapWatch {
+            f,
+            watch,
+            n,
+            g: vec![0.0; f.n_events()],
+            dy: vec![0.0; n],
+            probe: vec![0.0; n],
+            last: None,
+            before: None,
+            min_gap: None,
+        }
     }
-    stepper.interpolate(t_end, out)?;
-    at_step_end(t_end, out);
-    Ok(())
+
+    fn record(&mut self, gap: f64) {
+        self.min_gap = Some(self.min_gap.map_or(gap, |m: f64| m.min(gap)));
+    }
+
+    /// g and the sign of ġ at a step end (y may be the augmented state: its first n).
+    fn at_step_end(&mut self, t: f64, y: &[f64]) {
+        let y = &y[..self.n];
+        self.f.events(t, y, &mut self.g);
+        let g: Vec<f64> = self.g[..self.watch].to_vec();
+        for gk in &g {
+            self.record(-gk);
+        }
+        // ġ by a forward difference along f; where f cannot be evaluated, no peak is sought.
+        let rising = if self.f.rhs(t, y, &mut self.dy).is_ok() {
+            let scale = self.dy.iter().map(|d| d.abs()).fold(0.0, f64::max).max(1.0);
+            let tau = 1e-7 / scale;
+            for k in 0..self.n {
+                self.probe[k] = y[k] + tau * self.dy[k];
+            }
+            self.f.events(t + tau, &self.probe, &mut self.g);
+            g.iter().zip(&self.g).map(|(a, b)| b > a).collect()
+        } else {
+            vec![false; self.watch]
+        };
+        self.before = self.last.take();
+        self.last = Some((t, g, rising));
+    }
+
+    /// The maxima of g_k inside the last step [before, last], located on the dense output.
+    fn peak_inside<S: Formulation>(
+        &mut self,
+        stepper: &mut Stepper<'_, S>,
+    ) -> Result<(), SolveError> {
+        let (Some((a, _, up_a)), Some((b, _, up_b))) = (&self.before, &self.last) else {
+            return Ok(());
+        };
+        let (a, b) = (*a, *b);
+        let peaks: Vec<usize> = (0..self.watch).filter(|&k| up_a[k] && !up_b[k]).collect();
+        if peaks.is_empty() || b <= a {
+            return Ok(());
+        }
+        let mut state = vec![0.0; stepper.n_states()];
+        for k in peaks {
+            let mut g_at = |t: f64, g: &mut Vec<f64>| -> Result<f64, SolveError> {
+                stepper.interpolate(t, &mut state)?;
+                self.f.events(t, &state[..self.n], g);
+                Ok(g[k])
+            };
+            let r = 0.5 * (5f64.sqrt() - 1.0);
+            let (mut lo, mut hi) = (a, b);
+            let mut x1 = hi - r * (hi - lo);
+            let mut x2 = lo + r * (hi - lo);
+            let mut g = std::mem::take(&mut self.g);
+            let (mut g1, mut g2) = (g_at(x1, &mut g)?, g_at(x2, &mut g)?);
+            for _ in 0..PEAK_ITERATIONS {
+                if g1 > g2 {
+                    hi = x2;
+                    (x2, g2) = (x1, g1);
+                    x1 = hi - r * (hi - lo);
+                    g1 = g_at(x1, &mut g)?;
+                } else {
+                    lo = x1;
+                    (x1, g1) = (x2, g2);
+                    x2 = lo + r * (hi - lo);
+                    g2 = g_at(x2, &mut g)?;
+                }
+            }
+            self.g = g;
+            self.record(-g1.max(g2));
+        }
+        Ok(())
+    }
 }

@@ -177,7 +177,8 @@ pub struct BranchPoint {
     pub stable: bool,
     /// Rising crossings of the contact events over one period.
     pub impacts_per_period: usize,
-    /// Smallest gap −δ over the step ends of the period (m), with contact events.
+    /// Smallest gap −δ over the period (m; the deepest penetration located inside the steps),
+    /// with contact events.
     pub min_gap: Option<f64>,
     /// Closing error max_i |P(x)_i − x_i|/ε_i of the point (units of ε).
     pub residual: f64,
