@@ -10,7 +10,7 @@ use crate::settings::Solve;
 use linkdyn::Error;
 use linkdyn::analysis::orbit::BranchEnd;
 use linkdyn::model::Model;
-use linkdyn::studies::continuation::{ContinuationRequest, continuation};
+use linkdyn::studies::continuation::{ContinuationRequest, continuation_watched};
 use linkdyn::studies::orbit::{OrbitPeriod, OrbitRequest, orbit};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -153,6 +153,9 @@ pub fn branch<'py>(
     a: ContinuationArgs,
 ) -> PyResult<Bound<'py, PyAny>> {
     let overrides = model.source.overrides.clone();
+    // Ctrl-C: Python's signal handlers run when the GIL is held, so each point takes it
+    // briefly to check; a KeyboardInterrupt ends the branch and is raised once Rust returns.
+    let mut signal: Option<PyErr> = None;
     let result = py
         .detach(|| -> Result<_, Failed> {
             // The command line's checks, in its order.
@@ -213,9 +216,21 @@ pub fn branch<'py>(
                 follow_doublings,
                 options: solve.options()?,
             };
-            Ok(continuation(&request)?)
+            Ok(continuation_watched(
+                &request,
+                &mut |_, _| match Python::attach(|py| py.check_signals()) {
+                    Ok(()) => true,
+                    Err(e) => {
+                        signal = Some(e);
+                        false
+                    }
+                },
+            )?)
         })
         .map_err(|f| f.into_py(py, path))?;
+    if let Some(e) = signal {
+        return Err(e);
+    }
     let rows = &result.rows;
     let n = rows.len();
     let d = result.names.len();
@@ -272,7 +287,10 @@ pub fn branch<'py>(
         .rfind(|r| r.branch == 0)
         .map_or(f64::NAN, |r| r.parameter);
     let stopped = match &result.end {
-        BranchEnd::Reached | BranchEnd::TurnedBack | BranchEnd::Rejoined { .. } => None,
+        BranchEnd::Reached
+        | BranchEnd::TurnedBack
+        | BranchEnd::Rejoined { .. }
+        | BranchEnd::Stopped => None,
         BranchEnd::MaxPoints => Some(format!(
             "the branch stopped after {} points at {} = {last}, before to",
             result.points, a.param

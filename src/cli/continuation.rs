@@ -6,14 +6,18 @@
 
 use super::args::SolveArgs;
 use super::poincare::bad;
-use super::{EXIT_SOLVER, Failure, in_model};
+use super::{EXIT_INTERRUPTED, EXIT_SOLVER, Failure, in_model, interrupt};
 use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use linkdyn::Error;
 use linkdyn::analysis::orbit::BranchEnd;
+use linkdyn::analysis::orbit::BranchPoint;
 use linkdyn::output::{ResultPair, push_number};
 use linkdyn::simulation::FormulationKind;
-use linkdyn::studies::continuation::{ContinuationRequest, ContinuationRow, continuation};
+use linkdyn::studies::continuation::{ContinuationRequest, ContinuationRow, continuation_watched};
+use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 /// Arguments of `continue`.
 #[derive(Debug, Args)]
@@ -128,7 +132,17 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
     for note in pair.notes() {
         eprintln!("note: {note}");
     }
-    let result = continuation(&request).map_err(|e| in_model(&args.model, e))?;
+    // A first Ctrl-C ends the branch after its current point (the files are written with what
+    // was computed, exit 130); a second one stops at once.
+    interrupt::install();
+    interrupt::defer_to_caller();
+    let mut progress = Progress::new(&args.param);
+    let result = continuation_watched(&request, &mut |branch, point| {
+        progress.show(branch, point);
+        !interrupt::requested()
+    })
+    .map_err(|e| in_model(&args.model, e))?;
+    progress.finish();
 
     let mut text = String::new();
     text.push_str(&args.param);
@@ -186,6 +200,7 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
                 "rejoined branch {parent} at {} = {parameter} (a period doubling of that branch)",
                 args.param
             ),
+            BranchEnd::Stopped => format!("stopped at {} = {last} (interrupted)", args.param),
             BranchEnd::MaxPoints => {
                 stopped.push(format!(
                     "branch {} stopped after {} points",
@@ -236,8 +251,18 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
         args.out.with_extension("json").display(),
         result.wall_time_s
     );
+    if interrupt::requested() {
+        return Err(Failure {
+            code: EXIT_INTERRUPTED,
+            message: format!(
+                "interrupted: the branches up to the last point are in {} and {}",
+                args.out.display(),
+                args.out.with_extension("json").display()
+            ),
+        });
+    }
     let main_end = match &result.end {
-        BranchEnd::Reached | BranchEnd::Rejoined { .. } => Ok(()),
+        BranchEnd::Reached | BranchEnd::Rejoined { .. } | BranchEnd::Stopped => Ok(()),
         BranchEnd::TurnedBack => {
             println!(
                 "the branch turned back (a fold) and left the range at --from before reaching --to"
@@ -314,4 +339,60 @@ fn describe(param: &str, row: &ContinuationRow) -> String {
         row.min_gap_m
             .map_or("none".into(), |g| format!("{g:.3e} m"))
     )
+}
+
+/// Wall time after which the progress line appears.
+const SHOW_AFTER: Duration = Duration::from_secs(2);
+
+/// A spinner on stderr with the branch and the last point, for a continuation longer than
+/// about 2 s with stderr on a terminal; nothing otherwise (a file, a pipe, a test).
+struct Progress<'a> {
+    param: &'a str,
+    started: Instant,
+    terminal: bool,
+    points: Vec<usize>,
+    bar: Option<ProgressBar>,
+}
+
+impl<'a> Progress<'a> {
+    fn new(param: &'a str) -> Self {
+        Progress {
+            param,
+            started: Instant::now(),
+            terminal: std::io::stderr().is_terminal(),
+            points: Vec::new(),
+            bar: None,
+        }
+    }
+
+    fn show(&mut self, branch: usize, point: &BranchPoint) {
+        if self.points.len() <= branch {
+            self.points.resize(branch + 1, 0);
+        }
+        self.points[branch] += 1;
+        if !self.terminal || self.started.elapsed() < SHOW_AFTER {
+            return;
+        }
+        let bar = self.bar.get_or_insert_with(|| {
+            let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+            let style = ProgressStyle::with_template("{spinner} {elapsed} {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner());
+            bar.set_style(style);
+            bar
+        });
+        bar.set_message(format!(
+            "branch {branch}: {} points, {} = {}{}",
+            self.points[branch],
+            self.param,
+            point.parameter,
+            point.special.map(|k| format!(" ({k})")).unwrap_or_default()
+        ));
+        bar.tick();
+    }
+
+    fn finish(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+    }
 }

@@ -13,7 +13,7 @@ use serde::Serialize;
 use crate::analysis::AnalysisError;
 use crate::analysis::orbit::{
     Branch, BranchEnd, BranchPoint, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind,
-    continue_orbit, switch_branch,
+    continue_orbit_watched, switch_branch_watched,
 };
 use crate::error::{Error, Result};
 use crate::formulation::{Formulation, Outputs, ReducedLagrangian};
@@ -254,6 +254,19 @@ impl OrbitFamily for ModelFamily<'_> {
 /// the model's own error at `from` or `to`; [`Error::Analysis`] when there is no orbit at
 /// `from` (the message has the residual history) or the options are invalid.
 pub fn continuation(request: &ContinuationRequest<'_>) -> Result<ContinuationResult> {
+    continuation_watched(request, &mut |_, _| true)
+}
+
+/// [`continuation`], with `watch` called on every point as it joins a branch (the branch's
+/// index, the point): progress. When it returns false that branch ends there
+/// ([`BranchEnd::Stopped`]) and no further branch is started; the result holds what was
+/// computed.
+///
+/// Errors: as [`continuation`].
+pub fn continuation_watched(
+    request: &ContinuationRequest<'_>,
+    watch: &mut dyn FnMut(usize, &BranchPoint) -> bool,
+) -> Result<ContinuationResult> {
     let started = Instant::now();
     super::orbit::require_reduced(request.options.formulation)?;
     if request.period_turns == 0 {
@@ -297,9 +310,10 @@ pub fn continuation(request: &ContinuationRequest<'_>) -> Result<ContinuationRes
         .step
         .unwrap_or_else(|| (request.to - request.from).abs() / 20.0);
     let options = ContinuationOptions::new(request.from, request.to, step);
-    let main = continue_orbit(&family, &guess, &options, &solver)?;
+    let main = continue_orbit_watched(&family, &guess, &options, &solver, &mut |p| watch(0, p))?;
     let (main_end, main_unlocated) = (main.end.clone(), main.unlocated.clone());
-    let (branches, switch_failures) = follow_doublings(&family, main, request, &options, &solver);
+    let (branches, switch_failures) =
+        follow_doublings(&family, main, request, &options, &solver, watch);
 
     let names = start.f.output_names();
     let mut rows = Vec::new();
@@ -396,6 +410,7 @@ fn follow_doublings(
     request: &ContinuationRequest<'_>,
     options: &ContinuationOptions,
     solver: &SolverOptions,
+    watch: &mut dyn FnMut(usize, &BranchPoint) -> bool,
 ) -> (Vec<Followed>, Vec<(usize, f64, String)>) {
     let mut branches = vec![Followed {
         multiple: 1,
@@ -405,7 +420,8 @@ fn follow_doublings(
     }];
     let mut failures = Vec::new();
     let mut i = 0;
-    while i < branches.len() {
+    let stopped = |b: &[Followed]| b.iter().any(|f| f.branch.end == BranchEnd::Stopped);
+    while i < branches.len() && !stopped(&branches) {
         if branches[i].depth < request.follow_doublings {
             let points = &branches[i].branch.points;
             // A switched branch's own ends (where it left and rejoined its parent) are its
@@ -437,8 +453,16 @@ fn follow_doublings(
                 }) {
                     continue;
                 }
+                if stopped(&branches) {
+                    break;
+                }
                 let multiple = branches[i].multiple;
-                match switch_branch(family, multiple, pd, options, solver) {
+                let index = branches.len();
+                let switched =
+                    switch_branch_watched(family, multiple, pd, options, solver, &mut |p| {
+                        watch(index, p)
+                    });
+                match switched {
                     Ok(branch) => {
                         if let BranchEnd::Rejoined { parameter } = branch.end {
                             rejoined.push(parameter);

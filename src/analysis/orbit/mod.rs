@@ -37,8 +37,8 @@ pub mod shooting;
 pub mod variational;
 
 pub use continuation::{
-    Branch, BranchEnd, BranchPoint, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind,
-    continue_orbit, switch_branch,
+    Branch, BranchEnd, BranchPoint, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind, Watch,
+    continue_orbit, continue_orbit_watched, switch_branch, switch_branch_watched,
 };
 pub use monodromy::{Shot, shoot, shoot_watching};
 pub use saltation::{SaltationError, saltation_matrix};

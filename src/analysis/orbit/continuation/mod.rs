@@ -61,7 +61,7 @@ use self::corrector::{Newton, Solved, augmented_jacobian, correct};
 pub use self::special::SpecialKind;
 use self::special::{Observed, changes, regula_falsi, signed_distance};
 use self::switch::Halving;
-pub use self::switch::switch_branch;
+pub use self::switch::{switch_branch, switch_branch_watched};
 use super::floquet::{multipliers, restricted, split_trivial};
 use crate::analysis::AnalysisError;
 use crate::formulation::{Crossing, Formulation};
@@ -208,6 +208,9 @@ pub enum BranchEnd {
     },
     /// `max_points` points.
     MaxPoints,
+    /// The caller's watch asked to stop after the last point (an interrupt):
+    /// [`continue_orbit_watched`].
+    Stopped,
     /// No point was found beyond the last with the smallest step.
     Failed {
         /// The corrector's last message.
@@ -317,6 +320,20 @@ pub fn continue_orbit<Fam: OrbitFamily>(
     options: &ContinuationOptions,
     solver: &SolverOptions,
 ) -> Result<Branch, AnalysisError> {
+    continue_orbit_watched(family, guess, options, solver, &mut |_| true)
+}
+
+/// [`continue_orbit`], with `watch` called on every point as it joins the branch (progress);
+/// when it returns false the branch ends there ([`BranchEnd::Stopped`]).
+///
+/// Errors: as [`continue_orbit`].
+pub fn continue_orbit_watched<Fam: OrbitFamily>(
+    family: &Fam,
+    guess: &[f64],
+    options: &ContinuationOptions,
+    solver: &SolverOptions,
+    watch: Watch<'_>,
+) -> Result<Branch, AnalysisError> {
     validate(guess, options)?;
     let n = guess.len();
     let mut stats = SolverStats::default();
@@ -357,6 +374,14 @@ pub fn continue_orbit<Fam: OrbitFamily>(
         ));
     };
     let rows = vec![first.row(None)];
+    if !watch(&rows[0]) {
+        return Ok(Branch {
+            points: rows,
+            unlocated: Vec::new(),
+            end: BranchEnd::Stopped,
+            stats,
+        });
+    }
     let march = Marching {
         options,
         solver,
@@ -369,6 +394,7 @@ pub fn continue_orbit<Fam: OrbitFamily>(
         rows,
         options.max_step / scales.parameter,
         &mut stats,
+        watch,
     );
     Ok(Branch {
         points,
@@ -377,6 +403,9 @@ pub fn continue_orbit<Fam: OrbitFamily>(
         stats,
     })
 }
+
+/// Called on every point as it joins a branch; false stops the branch there.
+pub type Watch<'a> = &'a mut dyn FnMut(&BranchPoint) -> bool;
 
 /// The corrector's settings for `iterations` iterations.
 fn newton(options: &ContinuationOptions, solver: &SolverOptions, iterations: usize) -> Newton {
@@ -456,6 +485,7 @@ impl Marching<'_> {
         mut rows: Vec<BranchPoint>,
         ds: f64,
         stats: &mut SolverStats,
+        watch: Watch<'_>,
     ) -> (Vec<BranchPoint>, Vec<(SpecialKind, f64, String)>, BranchEnd) {
         let (options, scales, solver) = (self.options, self.scales, self.solver);
         let n = first.solved.y.len();
@@ -640,6 +670,9 @@ impl Marching<'_> {
             last = next;
             if to_reach.is_some() {
                 break BranchEnd::Reached;
+            }
+            if rows.last().is_some_and(|row| !watch(row)) {
+                break BranchEnd::Stopped;
             }
             // Newton converges linearly here (the monodromy in contact is ~1e-3 accurate), so an
             // iteration more on a longer step is cheaper than more steps: grow unless the

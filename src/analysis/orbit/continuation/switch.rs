@@ -47,7 +47,7 @@ use nalgebra::{DMatrix, DVector};
 use super::corrector::{Solved, WHAT, correct, plain};
 use super::{
     Branch, BranchPoint, ContinuationOptions, Marching, OrbitAt, OrbitFamily, Scales, SpecialKind,
-    finish, newton, parameter_direction, validate,
+    Watch, finish, newton, parameter_direction, validate,
 };
 use crate::analysis::AnalysisError;
 use crate::analysis::orbit::floquet::{active_states, restricted};
@@ -221,6 +221,21 @@ pub fn switch_branch<Fam: OrbitFamily>(
     options: &ContinuationOptions,
     solver: &SolverOptions,
 ) -> Result<Branch, AnalysisError> {
+    switch_branch_watched(family, multiple, at, options, solver, &mut |_| true)
+}
+
+/// [`switch_branch`], with `watch` called on every point as it joins the branch (progress);
+/// when it returns false the branch ends there ([`super::BranchEnd::Stopped`]).
+///
+/// Errors: as [`switch_branch`].
+pub fn switch_branch_watched<Fam: OrbitFamily>(
+    family: &Fam,
+    multiple: usize,
+    at: &BranchPoint,
+    options: &ContinuationOptions,
+    solver: &SolverOptions,
+    watch: Watch<'_>,
+) -> Result<Branch, AnalysisError> {
     validate(&at.y0, options)?;
     if at.special != Some(SpecialKind::PeriodDoubling) {
         return Err(AnalysisError::invalid(
@@ -338,7 +353,8 @@ pub fn switch_branch<Fam: OrbitFamily>(
                 let gap = distance_to_one(&first.multipliers);
                 if gap >= NEAR_ONE {
                     let rows = vec![as_doubled(at), first.row(None)];
-                    let (points, unlocated, end) = march.run(&double, first, rows, h, &mut stats);
+                    let (points, unlocated, end) =
+                        march.run(&double, first, rows, h, &mut stats, &mut *watch);
                     return Ok(Branch {
                         points,
                         unlocated,
