@@ -160,6 +160,31 @@ def test_a_followed_period_doubling_is_the_cli_s_bit_for_bit(cli, tmp_path):
     assert f"rejoined branch 0 at joints.B.clearance = {two['end']['parameter']!r}" in stdout
 
 
+def test_ctrl_c_ends_a_continuation_with_keyboard_interrupt():
+    import _thread
+    import signal
+    import threading
+    import time
+
+    # Python's own SIGINT handler (a background process may inherit SIGINT ignored; see
+    # test_analysis_threads.py), and a signal 1 s into a continuation of several seconds.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    timer = threading.Timer(1.0, _thread.interrupt_main)
+    try:
+        started = time.perf_counter()
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            linkdyn.load(MODEL, set=SPEED).continuation(
+                "joints.B.clearance", 0.00044, 0.0004, step=0.000002, follow_doublings=1,
+                **TOL_KW)
+        # Seen at the next point (a point takes well under a second here), not after the whole
+        # run (about 8 s here): without the check per point the raise would come at its end.
+        assert time.perf_counter() - started < 6.0
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, previous)
+
+
 def _has_pandas() -> bool:
     try:
         import pandas  # noqa: F401
