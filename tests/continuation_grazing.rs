@@ -17,9 +17,12 @@
 //! located on the dense output, not the smallest gap at the step ends (which would be off by
 //! ~(w h)²/8 of A for steps h).
 
+mod common;
+
+use common::branch::the_one_special_point;
 use linkdyn::analysis::AnalysisError;
 use linkdyn::analysis::orbit::{
-    BranchEnd, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind, continue_orbit,
+    ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind, continue_orbit,
 };
 use linkdyn::formulation::{Crossing, EventResponse, Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolverOptions};
@@ -117,16 +120,7 @@ fn the_orbit_grazes_the_stop_where_its_amplitude_reaches_the_gap() {
         &solver,
     )
     .unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(b.end, BranchEnd::Reached);
-    assert!(b.unlocated.is_empty(), "{:?}", b.unlocated);
-    let specials: Vec<(SpecialKind, f64)> = b
-        .points
-        .iter()
-        .filter_map(|p| p.special.map(|k| (k, p.parameter)))
-        .collect();
-    assert_eq!(specials.len(), 1, "{specials:?}");
-    assert_eq!(specials[0].0, SpecialKind::Grazing);
-    let located = specials[0].1;
+    let located = the_one_special_point(&b, SpecialKind::Grazing);
     assert!(
         ((located - f_g) / f_g).abs() < 1e-6,
         "grazing at F = {located}, closed form {f_g}"

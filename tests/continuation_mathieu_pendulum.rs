@@ -21,6 +21,9 @@
 //! The rest state needs a bounded step (`max_step` below): the monodromy's variational
 //! equations ride on the steps the state takes, and a state at rest takes any step.
 
+mod common;
+
+use common::branch::specials;
 use linkdyn::analysis::AnalysisError;
 use linkdyn::analysis::orbit::{
     Branch, BranchEnd, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind, continue_orbit,
@@ -97,13 +100,6 @@ fn branch(from: f64, to: f64, step: f64) -> Branch {
         &solver,
     )
     .unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn specials(b: &Branch) -> Vec<(SpecialKind, f64)> {
-    b.points
-        .iter()
-        .filter_map(|p| p.special.map(|k| (k, p.parameter)))
-        .collect()
 }
 
 fn assert_near(got: f64, published: f64, what: &str) {

@@ -14,9 +14,12 @@
 //! (Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004, §3.4
 //! and §4.7.)
 
+mod common;
+
+use common::branch::the_one_special_point;
 use linkdyn::analysis::AnalysisError;
 use linkdyn::analysis::orbit::{
-    BranchEnd, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind, continue_orbit,
+    ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind, continue_orbit,
 };
 use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolverOptions};
@@ -93,16 +96,8 @@ fn the_rest_state_has_one_neimark_sacker_point_at_mu_0() {
         &solver,
     )
     .unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(b.end, BranchEnd::Reached);
-    assert!(b.unlocated.is_empty(), "{:?}", b.unlocated);
-    let specials: Vec<(SpecialKind, f64)> = b
-        .points
-        .iter()
-        .filter_map(|p| p.special.map(|k| (k, p.parameter)))
-        .collect();
-    assert_eq!(specials.len(), 1, "{specials:?}");
-    assert_eq!(specials[0].0, SpecialKind::NeimarkSacker);
-    assert!(specials[0].1.abs() < 1e-6, "NS at μ = {}", specials[0].1);
+    let located = the_one_special_point(&b, SpecialKind::NeimarkSacker);
+    assert!(located.abs() < 1e-6, "NS at μ = {located}");
     for p in &b.points {
         let mu = p.parameter;
         assert!(p.y0.iter().all(|z| *z == 0.0), "{p:?}");

@@ -1,6 +1,7 @@
 //! Shared helpers for the physics tests: run a model to a [`Recorder`].
 #![allow(dead_code)]
 
+pub mod branch;
 pub mod chain;
 pub mod energy;
 pub mod fourbar;
