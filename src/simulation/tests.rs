@@ -362,8 +362,12 @@ impl<F: Formulation + Outputs + ContactProbe, S: SampleSink + ?Sized> solve::Sin
                     }
                     let lo = times[i.saturating_sub(1)];
                     let hi = times[(i + 1).min(SCAN_PROBES)];
-                    let (_, refined) =
-                        impacts::maximise(|t| at(t).map(|p| value(&p)), lo, hi, 1e-6 * (b - a))?;
+                    let (_, refined) = crate::solve::maximise::maximise(
+                        |t| at(t).map(|p| value(&p)),
+                        lo,
+                        hi,
+                        1e-6 * (b - a),
+                    )?;
                     Ok(best.max(refined))
                 };
             let force = peak(|p| p.normal_force)?;

@@ -98,6 +98,7 @@ mod explicit;
 pub mod ida;
 pub mod integrate;
 pub mod integrator;
+pub mod maximise;
 mod methods;
 pub mod options;
 mod progress;

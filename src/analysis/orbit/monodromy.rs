@@ -4,6 +4,7 @@
 use super::variational::Variational;
 use crate::analysis::AnalysisError;
 use crate::formulation::{Crossing, Formulation};
+use crate::solve::maximise::maximise;
 use crate::solve::{SolveError, SolverOptions, SolverStats, Stepper, Stop};
 
 /// What one shot over [t0, t0 + T] gives.
@@ -75,8 +76,7 @@ pub fn shoot_watching<F: Formulation + Clone>(
             let mut gaps = GapWatch::new(f, watch);
             gaps.at_step_end(t0, &start);
             while stepper.step().map_err(solve)? != Stop::EndReached {
-                let (t, y) = (stepper.t(), stepper.y().to_vec());
-                gaps.at_step_end(t, &y);
+                gaps.at_step_end(stepper.t(), stepper.y());
                 gaps.peak_inside(&mut stepper).map_err(solve)?;
             }
             stepper.interpolate(t1, &mut end).map_err(solve)?;
@@ -100,8 +100,9 @@ pub fn shoot_watching<F: Formulation + Clone>(
     })
 }
 
-/// Golden-section iterations for a located peak of g: 0.618⁶⁰ ≈ 3e-13 of the step.
-const PEAK_ITERATIONS: usize = 60;
+/// Width, relative to the step, to which a peak of g is located: about 60 golden-section
+/// iterations.
+const PEAK_WIDTH: f64 = 3e-13;
 
 /// The smallest gap −g_k of the watched event functions over a shot: at the step ends, and at
 /// the located maxima of g_k inside the steps (a journal that nears the bearing wall and turns
@@ -110,18 +111,22 @@ const PEAK_ITERATIONS: usize = 60;
 /// A maximum lies inside a step where ġ_k goes from positive at its start to negative at its
 /// end; ġ_k is a forward difference of g_k along f at each step end (one evaluation of the
 /// formulation's own right-hand side, not the variational equations'). The maximum is then
-/// found by golden-section search on the step's dense output.
+/// found by golden-section search ([`maximise`]) on the step's dense output.
 struct GapWatch<'a, F> {
     f: &'a F,
     watch: usize,
     n: usize,
+    /// Every event function at a point, and the watched ones at the step end.
     g: Vec<f64>,
+    g_end: Vec<f64>,
     dy: Vec<f64>,
     probe: Vec<f64>,
-    /// At the last step end: t, g_k and the sign of ġ_k for the watched k.
-    last: Option<(f64, Vec<f64>, Vec<bool>)>,
-    /// At the one before.
-    before: Option<(f64, Vec<f64>, Vec<bool>)>,
+    /// Times of the last step end and of the one before.
+    t_last: Option<f64>,
+    t_before: Option<f64>,
+    /// Whether ġ_k > 0 there, for the watched k.
+    rising_last: Vec<bool>,
+    rising_before: Vec<bool>,
     min_gap: Option<f64>,
 }
 
@@ -133,10 +138,13 @@ impl<'a, F: Formulation> GapWatch<'a, F> {
             watch,
             n,
             g: vec![0.0; f.n_events()],
+            g_end: vec![0.0; watch],
             dy: vec![0.0; n],
             probe: vec![0.0; n],
-            last: None,
-            before: None,
+            t_last: None,
+            t_before: None,
+            rising_last: vec![false; watch],
+            rising_before: vec![false; watch],
             min_gap: None,
         }
     }
@@ -149,24 +157,25 @@ impl<'a, F: Formulation> GapWatch<'a, F> {
     fn at_step_end(&mut self, t: f64, y: &[f64]) {
         let y = &y[..self.n];
         self.f.events(t, y, &mut self.g);
-        let g: Vec<f64> = self.g[..self.watch].to_vec();
-        for gk in &g {
-            self.record(-gk);
-        }
+        self.g_end.copy_from_slice(&self.g[..self.watch]);
+        let deepest = self.g_end.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        self.record(-deepest);
+        std::mem::swap(&mut self.rising_before, &mut self.rising_last);
+        self.t_before = self.t_last.replace(t);
         // ġ by a forward difference along f; where f cannot be evaluated, no peak is sought.
-        let rising = if self.f.rhs(t, y, &mut self.dy).is_ok() {
+        if self.f.rhs(t, y, &mut self.dy).is_ok() {
             let scale = self.dy.iter().map(|d| d.abs()).fold(0.0, f64::max).max(1.0);
             let tau = 1e-7 / scale;
             for k in 0..self.n {
                 self.probe[k] = y[k] + tau * self.dy[k];
             }
             self.f.events(t + tau, &self.probe, &mut self.g);
-            g.iter().zip(&self.g).map(|(a, b)| b > a).collect()
+            for (k, up) in self.rising_last.iter_mut().enumerate() {
+                *up = self.g[k] > self.g_end[k];
+            }
         } else {
-            vec![false; self.watch]
-        };
-        self.before = self.last.take();
-        self.last = Some((t, g, rising));
+            self.rising_last.fill(false);
+        }
     }
 
     /// The maxima of g_k inside the last step [before, last], located on the dense output.
@@ -174,42 +183,31 @@ impl<'a, F: Formulation> GapWatch<'a, F> {
         &mut self,
         stepper: &mut Stepper<'_, S>,
     ) -> Result<(), SolveError> {
-        let (Some((a, _, up_a)), Some((b, _, up_b))) = (&self.before, &self.last) else {
+        let (Some(a), Some(b)) = (self.t_before, self.t_last) else {
             return Ok(());
         };
-        let (a, b) = (*a, *b);
-        let peaks: Vec<usize> = (0..self.watch).filter(|&k| up_a[k] && !up_b[k]).collect();
-        if peaks.is_empty() || b <= a {
+        if b <= a {
             return Ok(());
         }
         let mut state = vec![0.0; stepper.n_states()];
-        for k in peaks {
-            let mut g_at = |t: f64, g: &mut Vec<f64>| -> Result<f64, SolveError> {
-                stepper.interpolate(t, &mut state)?;
-                self.f.events(t, &state[..self.n], g);
-                Ok(g[k])
-            };
-            let r = 0.5 * (5f64.sqrt() - 1.0);
-            let (mut lo, mut hi) = (a, b);
-            let mut x1 = hi - r * (hi - lo);
-            let mut x2 = lo + r * (hi - lo);
-            let mut g = std::mem::take(&mut self.g);
-            let (mut g1, mut g2) = (g_at(x1, &mut g)?, g_at(x2, &mut g)?);
-            for _ in 0..PEAK_ITERATIONS {
-                if g1 > g2 {
-                    hi = x2;
-                    (x2, g2) = (x1, g1);
-                    x1 = hi - r * (hi - lo);
-                    g1 = g_at(x1, &mut g)?;
-                } else {
-                    lo = x1;
-                    (x1, g1) = (x2, g2);
-                    x2 = lo + r * (hi - lo);
-                    g2 = g_at(x2, &mut g)?;
-                }
+        for k in 0..self.watch {
+            // Rising at the step's start and no longer at its end: a peak inside.
+            let peaks_inside = self.rising_before[k] && !self.rising_last[k];
+            if !peaks_inside {
+                continue;
             }
-            self.g = g;
-            self.record(-g1.max(g2));
+            let (f, n, g) = (self.f, self.n, &mut self.g);
+            let (_, peak) = maximise(
+                |t| {
+                    stepper.interpolate(t, &mut state)?;
+                    f.events(t, &state[..n], g);
+                    Ok(g[k])
+                },
+                a,
+                b,
+                PEAK_WIDTH * (b - a),
+            )?;
+            self.record(-peak);
         }
         Ok(())
     }
