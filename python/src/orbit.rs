@@ -18,7 +18,7 @@ use pyo3::types::PyDict;
 use std::path::Path;
 
 /// A count given as a Python int that must be ≥ `least` (the command line's `usize` options).
-fn count(option: &'static str, value: i64, least: i64, what: &str) -> Result<usize, Error> {
+pub fn count(option: &'static str, value: i64, least: i64, what: &str) -> Result<usize, Error> {
     if value < least {
         return Err(Error::settings(
             option,

@@ -5,25 +5,14 @@
 
 use crate::analyses::{floats, record, to_python};
 use crate::errors::Failed;
+use crate::orbit::count;
 use crate::settings::Solve;
-use linkdyn::Error;
 use linkdyn::model::Model;
 use linkdyn::simulation::Simulation;
 use linkdyn::studies::{WearRequest, wear};
 use numpy::PyArrayMethods;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-
-/// A count given as a Python int: negative values are refused here, 0 by the study with its
-/// own message (the command line parses `usize` and leaves 0 to the study too).
-fn whole(option: &'static str, value: i64) -> Result<usize, Error> {
-    usize::try_from(value).map_err(|_| {
-        Error::settings(
-            option,
-            format!("expected a whole number of driver turns ≥ 1, got {value}"),
-        )
-    })
-}
 
 /// `Model.wear` (`linkdyn wear`).
 pub fn wear_study<'py>(
@@ -36,9 +25,12 @@ pub fn wear_study<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let result = py
         .detach(|| -> Result<_, Failed> {
+            // Negative counts are refused here, 0 by the study with its own message (the
+            // command line parses `usize` and leaves 0 to the study too).
+            let what = "a whole number of driver turns ≥ 1";
             let request = WearRequest {
-                turns: whole("turns", turns)?,
-                update_every: whole("update_every", update_every)?,
+                turns: count("turns", turns, 0, what)?,
+                update_every: count("update_every", update_every, 0, what)?,
             };
             // As the command: the simulation runs at least one turn; zero turns are the
             // study's to refuse.

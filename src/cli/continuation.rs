@@ -6,6 +6,7 @@
 
 use super::args::SolveArgs;
 use super::poincare::bad;
+use super::progress::SHOW_AFTER;
 use super::{EXIT_INTERRUPTED, EXIT_SOLVER, Failure, in_model, interrupt};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -17,7 +18,7 @@ use linkdyn::simulation::FormulationKind;
 use linkdyn::studies::continuation::{ContinuationRequest, ContinuationRow, continuation_watched};
 use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Arguments of `continue`.
 #[derive(Debug, Args)]
@@ -340,9 +341,6 @@ fn describe(param: &str, row: &ContinuationRow) -> String {
             .map_or("none".into(), |g| format!("{g:.3e} m"))
     )
 }
-
-/// Wall time after which the progress line appears.
-const SHOW_AFTER: Duration = Duration::from_secs(2);
 
 /// A spinner on stderr with the branch and the last point, for a continuation longer than
 /// about 2 s with stderr on a terminal; nothing otherwise (a file, a pipe, a test).

@@ -11,7 +11,7 @@ use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
 /// Wall time after which the progress bar appears.
-const SHOW_AFTER: Duration = Duration::from_secs(2);
+pub(super) const SHOW_AFTER: Duration = Duration::from_secs(2);
 /// Resolution of the bar (positions per run).
 const STEPS: u64 = 1000;
 

@@ -451,8 +451,7 @@ impl Marching<'_> {
             Some(h) => h.halves(&solved, stats)?,
             None => Vec::new(),
         };
-        let mut pt = finish(solved, previous, self.scales, family.contact_events())
-            .ok_or_else(|| AnalysisError::invalid("continuation", "singular augmented Jacobian"))?;
+        let mut pt = finished(solved, previous, self.scales, family.contact_events())?;
         pt.halves = halves;
         Ok(pt)
     }
@@ -686,6 +685,17 @@ impl Marching<'_> {
         };
         (rows, unlocated, end)
     }
+}
+
+/// [`finish`], its singular augmented Jacobian as an error.
+fn finished(
+    solved: Solved,
+    previous: &[f64],
+    scales: &Scales,
+    contacts: usize,
+) -> Result<Point, AnalysisError> {
+    finish(solved, previous, scales, contacts)
+        .ok_or_else(|| AnalysisError::invalid("continuation", "singular augmented Jacobian"))
 }
 
 /// Multipliers, impacts and the unit tangent of a corrected point (the tangent's sign: along

@@ -72,7 +72,8 @@ pub(super) struct Observed<'a> {
 /// (nalgebra returns exact zeros for real eigenvalues; this only guards rounding).
 const REAL: f64 = 1e-12;
 
-fn is_real(z: &[f64; 2]) -> bool {
+/// Whether the multiplier `z` (re, im) is real.
+pub(super) fn is_real(z: &[f64; 2]) -> bool {
     z[1].abs() <= REAL * z[0].hypot(z[1])
 }
 

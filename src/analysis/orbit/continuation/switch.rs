@@ -45,9 +45,10 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::corrector::{Solved, WHAT, correct, plain};
+use super::special::is_real;
 use super::{
     Branch, BranchPoint, ContinuationOptions, Marching, OrbitAt, OrbitFamily, Scales, SpecialKind,
-    Watch, finish, newton, parameter_direction, validate,
+    Watch, finished, newton, parameter_direction, validate,
 };
 use crate::analysis::AnalysisError;
 use crate::analysis::orbit::floquet::{active_states, restricted};
@@ -159,12 +160,11 @@ impl<Fam: OrbitFamily> Halving for Halves<'_, Fam> {
                 self.solver,
                 stats,
             )?;
-            let point = finish(solved, &e_p, self.scales, self.single.contact_events())
-                .ok_or_else(|| AnalysisError::invalid(WHAT, "singular augmented Jacobian"))?;
+            let point = finished(solved, &e_p, self.scales, self.single.contact_events())?;
             let psi = point
                 .multipliers
                 .iter()
-                .filter(|z| z[1].abs() <= 1e-12 * z[0].hypot(z[1]))
+                .filter(|z| is_real(z))
                 .map(|z| z[0] + 1.0)
                 .min_by(|a, b| a.abs().total_cmp(&b.abs()))
                 .unwrap_or(f64::INFINITY);
@@ -406,7 +406,7 @@ pub fn switch_branch_watched<Fam: OrbitFamily>(
 fn distance_to_one(multipliers: &[[f64; 2]]) -> f64 {
     multipliers
         .iter()
-        .filter(|z| z[1].abs() <= 1e-12 * z[0].hypot(z[1]))
+        .filter(|z| is_real(z))
         .map(|z| (z[0] - 1.0).abs())
         .fold(1.0, f64::min)
 }
