@@ -22,7 +22,8 @@ mod common;
 use common::branch::the_one_special_point;
 use linkdyn::analysis::AnalysisError;
 use linkdyn::analysis::orbit::{
-    ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind, continue_orbit,
+    ContinuationOptions, OrbitAt, OrbitFamily, OrbitOptions, SpecialKind, continue_orbit,
+    periodic_orbit,
 };
 use linkdyn::formulation::{Crossing, EventResponse, Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolverOptions};
@@ -143,4 +144,44 @@ fn the_orbit_grazes_the_stop_where_its_amplitude_reaches_the_gap() {
         }
         assert!(p.stable, "F = {force}: {:?}", p.multipliers);
     }
+}
+
+/// One orbit found by shooting (`linkdyn orbit`'s path) locates its smallest gap the same way:
+/// clear of the stop it is d − A, where the gap at the step ends alone is larger; unwatched, no
+/// gap is reported.
+#[test]
+fn a_shot_orbit_locates_its_smallest_gap_inside_the_steps() {
+    let solver = SolverOptions::default()
+        .method(Method::Dop853)
+        .rtol(1e-11)
+        .atol(1e-13);
+    let force = 0.4;
+    let f = OscillatorAtAStop { force };
+    let period = std::f64::consts::TAU / W;
+    // The steady state at t = 0: x = A cos ϕ, x' = A w sin ϕ, tan ϕ = 2ζω0w/(ω0² − w²).
+    let amplitude = force / impedance();
+    let phase = (2.0 * ZETA * OMEGA0 * W).atan2(OMEGA0 * OMEGA0 - W * W);
+    let guess = [0.9 * amplitude * phase.cos(), amplitude * W * phase.sin()];
+    let watched = OrbitOptions {
+        watched_gaps: 1,
+        ..OrbitOptions::new(period)
+    };
+    let orbit =
+        periodic_orbit(&f, 0.0, &guess, &watched, &solver).unwrap_or_else(|e| panic!("{e}"));
+    let gap = orbit.min_gap.unwrap_or(f64::NAN);
+    assert!(
+        (gap - (GAP - amplitude)).abs() < 1e-9,
+        "smallest gap {gap}, closed form {}",
+        GAP - amplitude
+    );
+    assert!(
+        (orbit.y0[0] - amplitude * phase.cos()).abs() < 1e-9,
+        "x(0) = {}, closed form {}",
+        orbit.y0[0],
+        amplitude * phase.cos()
+    );
+    let unwatched = periodic_orbit(&f, 0.0, &guess, &OrbitOptions::new(period), &solver)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(unwatched.min_gap, None);
+    assert_eq!(unwatched.y0, orbit.y0, "watching changes nothing else");
 }

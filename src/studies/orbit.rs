@@ -21,7 +21,7 @@ use crate::model::Model;
 use crate::simulation::{
     EndTime, FormulationKind, Provenance, Simulation, SimulationOptions, analyses,
 };
-use crate::solve::{self, DenseStep, EventRecord, Sink, SolveError, SolverStats, Stepper, Stop};
+use crate::solve::{self, EventRecord, Sink, SolveError, SolverStats, Stepper, Stop};
 
 /// The period asked for.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -156,20 +156,21 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
     };
     let (guess, guess_stats) =
         integrate_to(&mut f, t0, &y_start, t_section, &solver).map_err(solve)?;
-    let found = periodic_orbit(&f, t_section, &guess, &OrbitOptions::new(period), &solver)?;
+    // Event k < the number of clearance joints is joint k's penetration δ: its gap is located.
+    let options = OrbitOptions {
+        watched_gaps: sim.clearance_joints().len(),
+        ..OrbitOptions::new(period)
+    };
+    let found = periodic_orbit(&f, t_section, &guess, &options, &solver)?;
 
-    // One period from the orbit, for its samples, impacts and gap.
+    // One period from the orbit, for its samples and impacts.
     let names = f.output_names();
-    let n_joints = sim.clearance_joints().len();
     let mut record = Record {
         names: names.len(),
         row: Vec::new(),
         samples: Vec::new(),
         impacts: 0,
-        n_joints,
-        min_gap: None,
-        end: vec![0.0; f.n_states()],
-        g: vec![0.0; f.n_events()],
+        n_joints: options.watched_gaps,
     };
     let mut copy = f.clone();
     let stats = solve::integrate(
@@ -219,7 +220,7 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
         stable,
         spectral_radius,
         impacts_per_period: record.impacts,
-        min_gap_m: record.min_gap,
+        min_gap_m: found.min_gap,
         closing_error: found.closing_error,
         wall_time_s: started.elapsed().as_secs_f64(),
         solver_stats: total,
@@ -266,30 +267,13 @@ fn integrate_to<F: Formulation>(
     Ok((y, stepper.stats().clone()))
 }
 
-/// The orbit's samples, its impacts and its smallest gap (event k < `n_joints` is joint k's
-/// penetration δ, so the gap is −g_k).
+/// The orbit's samples and its impacts (event k < `n_joints` is joint k's penetration δ).
 struct Record {
     names: usize,
     row: Vec<f64>,
     samples: Vec<(f64, Vec<f64>)>,
     impacts: usize,
     n_joints: usize,
-    min_gap: Option<f64>,
-    end: Vec<f64>,
-    g: Vec<f64>,
-}
-
-impl Record {
-    fn gap<F: Formulation>(&mut self, f: &F, t: f64, y: &[f64]) {
-        if self.n_joints == 0 {
-            return;
-        }
-        f.events(t, y, &mut self.g);
-        for delta in self.g.iter().take(self.n_joints) {
-            let gap = -delta;
-            self.min_gap = Some(self.min_gap.map_or(gap, |m: f64| m.min(gap)));
-        }
-    }
 }
 
 impl<F: Formulation + Outputs> Sink<F> for Record {
@@ -301,7 +285,6 @@ impl<F: Formulation + Outputs> Sink<F> for Record {
             })?;
         debug_assert_eq!(self.row.len(), self.names, "one value per output column");
         self.samples.push((t, self.row.clone()));
-        self.gap(f, t, y);
         Ok(())
     }
 
@@ -315,18 +298,6 @@ impl<F: Formulation + Outputs> Sink<F> for Record {
         if event.index < self.n_joints && event.crossing == Crossing::Rising {
             self.impacts += 1;
         }
-        Ok(())
-    }
-
-    fn on_step(&mut self, step: &mut DenseStep<'_, F>) -> std::result::Result<(), SolveError>
-    where
-        F: Formulation,
-    {
-        let t = step.range().1;
-        let mut end = std::mem::take(&mut self.end);
-        step.interpolate(t, &mut end)?;
-        self.gap(step.formulation(), t, &end);
-        self.end = end;
         Ok(())
     }
 }

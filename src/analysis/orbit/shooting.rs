@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use super::floquet::{active_states, multipliers, restricted, split_trivial};
-use super::monodromy::{Shot, shoot};
+use super::monodromy::{Shot, shoot_watching};
 use crate::analysis::AnalysisError;
 use crate::analysis::error::check_finite;
 use crate::formulation::{Crossing, Formulation};
@@ -30,6 +30,10 @@ pub struct OrbitOptions {
     pub closing_limit: f64,
     /// Halvings of a Newton step that does not lower the residual (default 8).
     pub max_halvings: usize,
+    /// The first this many event functions of the formulation are contact penetrations whose
+    /// smallest gap over the period is located ([`PeriodicOrbit::min_gap`]; default 0: none,
+    /// at no cost).
+    pub watched_gaps: usize,
 }
 
 impl OrbitOptions {
@@ -42,6 +46,7 @@ impl OrbitOptions {
             step_tolerance: 1.0,
             closing_limit: 1e3,
             max_halvings: 8,
+            watched_gaps: 0,
         }
     }
 }
@@ -75,6 +80,10 @@ pub struct PeriodicOrbit {
     pub trivial_multipliers: usize,
     /// The events of one period (time, event index, crossing) along the orbit.
     pub events: Vec<(f64, usize, Crossing)>,
+    /// Smallest gap −g_k over the period of the orbit returned for the watched event functions
+    /// ([`OrbitOptions::watched_gaps`]), at the step ends and at the maxima of g_k located
+    /// inside the steps ([`super::Shot::min_gap`]); `None` when none were watched.
+    pub min_gap: Option<f64>,
     /// Cost of every integration, summed.
     pub stats: SolverStats,
 }
@@ -109,7 +118,16 @@ pub fn periodic_orbit<F: Formulation + Clone>(
     let t1 = t0 + options.period;
     let mut stats = SolverStats::default();
     let run = |y: &[f64], stats: &mut SolverStats| -> Result<Shot, AnalysisError> {
-        let shot = shoot(f, t0, y, t1, options.time_scale, solver, WHAT)?;
+        let shot = shoot_watching(
+            f,
+            t0,
+            y,
+            t1,
+            options.time_scale,
+            solver,
+            WHAT,
+            options.watched_gaps,
+        )?;
         stats.add_run(&shot.stats);
         Ok(shot)
     };
@@ -243,6 +261,7 @@ pub fn periodic_orbit<F: Formulation + Clone>(
         multipliers: mu,
         monodromy: shot.monodromy,
         events: shot.events,
+        min_gap: shot.min_gap,
         y0: y,
         stats,
     })
