@@ -44,7 +44,7 @@ pub mod animate;
 pub mod contact;
 pub mod error;
 pub mod formulation;
-pub(crate) mod linalg;
+pub mod linalg;
 pub mod mechanics;
 pub mod model;
 pub mod numbers;

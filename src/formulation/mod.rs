@@ -5,7 +5,6 @@
 //! mechanism: equations apart from method.
 
 pub mod assembly;
-pub mod cholesky;
 pub mod contact_slopes;
 pub mod contacts;
 pub mod corner_contacts;

@@ -7,30 +7,23 @@
 //! [`Schur::new`]; every evaluation then only sums the 3-vector products
 //! S_ij = Σ (M⁻¹ Φ_q,i)ᵀ Φ_q,j over those pairs, factors and solves.
 //!
-//! Two storages (see [`SchurSolver`]):
+//! Two storages (see [`SchurSolver`]), each factored by a kernel of [`crate::linalg`]:
 //!
 //! * **dense**: the m × m lower triangle in row order and the hand-written Cholesky of
-//!   [`super::cholesky`]: as fast for the few rows of one or two loops, cubic beyond;
-//! * **skyline** (envelope, profile): the rows renumbered once by reverse Cuthill–McKee (ref. 1)
-//!   so that the non-zeros gather near the diagonal, then row i of the factor L stored from its
-//!   first structural non-zero f_i to the diagonal. Cholesky fills only inside this envelope
-//!   (ref. 2, §4.2), so the factor costs Σ_i (i − f_i)² / 2 multiply-adds: linear in m for a
-//!   chain of loops, whose envelope width stays a few rows however long the chain.
+//!   [`crate::linalg::cholesky`]: as fast for the few rows of one or two loops, cubic beyond;
+//! * **skyline**: the rows renumbered once by reverse Cuthill–McKee so that the non-zeros
+//!   gather near the diagonal, and the envelope Cholesky of [`crate::linalg::skyline`]: linear
+//!   in m for a chain of loops.
 //!
-//! A pivot that is not positive (relative 1e-13 of its diagonal, as in [`super::cholesky`])
-//! reports its row, in the caller's numbering: the row that is, to working precision, a
-//! combination of the rows eliminated before it (in row order for the dense storage, in the
-//! reverse Cuthill–McKee order for the skyline).
-//!
-//! # References
-//! 1. A. George, J. W. H. Liu, *Computer Solution of Large Sparse Positive Definite Systems*,
-//!    Prentice-Hall, 1981, §4.3 (reverse Cuthill–McKee, pseudo-peripheral nodes).
-//! 2. A. Jennings, A compact storage scheme for the solution of symmetric linear simultaneous
-//!    equations, *The Computer Journal* 9 (1966) 281–285.
+//! A pivot that is not positive (relative 1e-13 of its diagonal, as in
+//! [`crate::linalg::cholesky`]) reports its row, in the caller's numbering: the row that is, to
+//! working precision, a combination of the rows eliminated before it (in row order for the
+//! dense storage, in the reverse Cuthill–McKee order for the skyline).
 
-use super::cholesky;
+use crate::linalg::cholesky;
+use crate::linalg::regularised::{regularised, shift_of};
+use crate::linalg::skyline;
 use crate::mechanics::constraints::{ConstraintRow, pairs_on_common_bodies};
-use std::collections::VecDeque;
 
 /// Number of rows up to which [`SchurSolver::Auto`] takes the dense Cholesky. Measured on chains
 /// of parallel four-bars ("Hundreds of bodies" in `docs/measurements.md`), form + factor +
@@ -173,34 +166,11 @@ impl Schur {
                 Box::new(move |i, j| i * m + j),
             )
         } else {
-            let natural: Vec<usize> = (0..m).collect();
-            let rcm = reverse_cuthill_mckee(&adjacency);
-            // Keep the row order where it is already as tight (a single loop).
-            let perm = if envelope_size(&adjacency, &rcm) < envelope_size(&adjacency, &natural) {
-                rcm
-            } else {
-                natural
-            };
-            let mut inverse = vec![0; m];
-            for (p, &k) in perm.iter().enumerate() {
-                inverse[k] = p;
-            }
-            let first: Vec<usize> = (0..m)
-                .map(|p| {
-                    adjacency[perm[p]]
-                        .iter()
-                        .map(|&k| inverse[k])
-                        .fold(p, usize::min)
-                })
-                .collect();
-            let mut start = Vec::with_capacity(m + 1);
-            let mut total = 0;
-            for (p, f) in first.iter().enumerate() {
-                start.push(total);
-                total += p - f + 1;
-            }
-            start.push(total);
-            let (first_c, start_c) = (first.clone(), start.clone());
+            let envelope = skyline::Envelope::new(&adjacency);
+            let total = envelope.len();
+            let skyline::Envelope {
+                perm, first, start, ..
+            } = envelope.clone();
             (
                 Storage::Skyline {
                     perm,
@@ -209,11 +179,7 @@ impl Schur {
                     values: vec![0.0; total],
                     x: vec![0.0; m],
                 },
-                Box::new(move |i, j| {
-                    let (a, b) = (inverse[i], inverse[j]);
-                    let (r, c) = (a.max(b), a.min(b));
-                    start_c[r] + c - first_c[r]
-                }),
+                Box::new(move |i, j| envelope.position(i, j)),
             )
         };
         let couplings = pairs
@@ -329,7 +295,7 @@ impl Schur {
                 start,
                 values,
                 ..
-            } => skyline_factor_with(first, start, values, |p, raw, diagonal| {
+            } => skyline::factor_with(first, start, values, |p, raw, diagonal| {
                 seen = p + 1;
                 regularised(
                     &mut min_ratio,
@@ -412,7 +378,7 @@ impl Schur {
                 start,
                 values,
                 ..
-            } => skyline_factor(first, start, values).map_err(|p| perm[p]),
+            } => skyline::factor(first, start, values).map_err(|p| perm[p]),
         }
     }
 
@@ -431,7 +397,7 @@ impl Schur {
                 for (xp, &k) in x.iter_mut().zip(perm.iter()) {
                     *xp = b[k];
                 }
-                skyline_solve(first, start, values, x);
+                skyline::solve(first, start, values, x);
                 for (xp, &k) in x.iter().zip(perm.iter()) {
                     b[k] = *xp;
                 }
@@ -449,215 +415,6 @@ fn block_index(k: usize, side: u8) -> u32 {
 /// 2³² (a model of 10⁶ rows would need terabytes for its envelope first).
 fn to_u32(k: usize) -> u32 {
     u32::try_from(k).unwrap_or(u32::MAX)
-}
-
-/// Raw pivots above this multiple of their shift μ are used as they are by [`regularised`]:
-/// there μ³/(d + μ)² < 1e-18 d, which adding to d cannot change.
-const HEALTHY_PIVOT: f64 = 1e6;
-
-/// The pivot rule of [`Schur::factor_regularised`] for [`cholesky::factor_with`] and
-/// [`skyline_factor_with`]: the raw pivot d of a row (diagonal entry s, shift μ) becomes
-/// d + μ³/(d + μ)², `None` where d ≤ −μ or the result is not positive (NaN); `min_ratio` keeps
-/// the smallest d/s ([`Schur::min_pivot_ratio`]), `sum` gets d + μ, from which
-/// [`Schur::factor_regularised`] records the shift [`shift_of`] once the factor is done
-/// ([`Schur::regularisation`]).
-fn regularised(
-    min_ratio: &mut f64,
-    raw: f64,
-    diagonal: f64,
-    shift: f64,
-    sum: &mut f64,
-) -> Option<f64> {
-    // A division only where the ratio may be a new minimum (rarely after the first rows):
-    // the test lets through every d/s below the minimum and a few rounding ties above it,
-    // which `min` then settles exactly as before.
-    let bound = *min_ratio * diagonal;
-    if raw <= bound + 1e-12 * bound.abs() {
-        *min_ratio = min_ratio.min(raw / diagonal);
-    }
-    *sum = raw + shift;
-    // NaN fails too.
-    if (*sum).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-        return None;
-    }
-    if raw > HEALTHY_PIVOT * shift {
-        // Δ < μ³/d² < 1e-18 d, below half an ulp of d: d + Δ rounds to d, so the pivot is d
-        // without waiting for a division (the next row's elimination waits for this pivot).
-        return Some(raw);
-    }
-    // μ³/(d + μ)²: a healthy pivot moves by a relative (μ/d)³, below half an ulp wherever
-    // d ≳ 2e-3 D at μ = 1e-8 D, so regular linkages keep the arithmetic of the unregularised
-    // solve bit for bit; a collapsed one (d → 0) becomes μ (at least 0.89 μ on the way).
-    let d = raw + shift_of(shift, *sum);
-    if d.is_nan() || d <= 0.0 {
-        None
-    } else {
-        Some(d)
-    }
-}
-
-/// The shift Δ = μ³/(d + μ)² that [`regularised`] adds to a raw pivot d, from μ and d + μ.
-fn shift_of(mu: f64, sum: f64) -> f64 {
-    mu * mu * mu / (sum * sum)
-}
-
-/// Envelope Cholesky in place: row p of `values` (columns `first[p]..=p`) becomes row p of L,
-/// with the reciprocal 1/L_pp on the diagonal as in [`cholesky::factor`]. Row-oriented
-/// (ref. 2): L_pj = (S_pj − Σ_{k ≥ max(f_p, f_j)} L_pk L_jk) / L_jj, every sum a dot product of
-/// two contiguous slices. `Err(p)`: the first pivot that is not positive
-/// ([`cholesky::checked_pivot`]).
-fn skyline_factor(first: &[usize], start: &[usize], values: &mut [f64]) -> Result<(), usize> {
-    skyline_factor_with(first, start, values, |_, raw, diagonal| {
-        cholesky::checked_pivot(raw, diagonal)
-    })
-}
-
-/// [`skyline_factor`] with the pivot rule given, as [`cholesky::factor_with`]:
-/// `pivot(p, d, S_pp)` returns the pivot to use for the raw pivot d at position p of the
-/// renumbered order, or `None` to stop with `Err(p)`.
-fn skyline_factor_with(
-    first: &[usize],
-    start: &[usize],
-    values: &mut [f64],
-    mut pivot: impl FnMut(usize, f64, f64) -> Option<f64>,
-) -> Result<(), usize> {
-    // L_pk is `values[base_p + k]` with base_p = start[p] − f_p (≥ 0: row p starts after p
-    // earlier rows of at least one entry each, and f_p ≤ p). Plain index loops: the envelope
-    // rows of a linkage hold about four entries, and the slices and zipped iterators of a
-    // general dot product cost more than the few products in them. Sums run from −0.0 in
-    // increasing k, as `Iterator::sum` does, so the factor is the same to the bit.
-    for p in 0..first.len() {
-        let fp = first[p];
-        let base_p = start[p] - fp;
-        for j in fp..p {
-            let fj = first[j];
-            let base_j = start[j] - fj;
-            let mut dot = -0.0;
-            for k in fp.max(fj)..j {
-                dot += values[base_p + k] * values[base_j + k];
-            }
-            values[base_p + j] = (values[base_p + j] - dot) * values[base_j + j];
-        }
-        let mut squares = -0.0;
-        for k in fp..p {
-            squares += values[base_p + k] * values[base_p + k];
-        }
-        let s = values[base_p + p];
-        let Some(d) = pivot(p, s - squares, s) else {
-            return Err(p);
-        };
-        values[base_p + p] = 1.0 / d.sqrt();
-    }
-    Ok(())
-}
-
-/// Solves L Lᵀ x = b in place with L from [`skyline_factor`] (indexing as there).
-fn skyline_solve(first: &[usize], start: &[usize], values: &[f64], x: &mut [f64]) {
-    for p in 0..first.len() {
-        let fp = first[p];
-        let base = start[p] - fp;
-        let mut dot = -0.0;
-        for k in fp..p {
-            dot += values[base + k] * x[k];
-        }
-        x[p] = (x[p] - dot) * values[base + p];
-    }
-    // Lᵀ x = y by columns of Lᵀ (rows of L): x_p is final once the rows below have been
-    // subtracted, then scattered into the rows it couples to.
-    for p in (0..first.len()).rev() {
-        let fp = first[p];
-        let base = start[p] - fp;
-        let xp = x[p] * values[base + p];
-        x[p] = xp;
-        for k in fp..p {
-            x[k] -= values[base + k] * xp;
-        }
-    }
-}
-
-/// Entries of the envelope of the lower triangle under the ordering `order` (`order[p]` = the
-/// node at position p).
-fn envelope_size(adjacency: &[Vec<usize>], order: &[usize]) -> usize {
-    let mut position = vec![0; order.len()];
-    for (p, &k) in order.iter().enumerate() {
-        position[k] = p;
-    }
-    order
-        .iter()
-        .enumerate()
-        .map(|(p, &k)| {
-            let f = adjacency[k]
-                .iter()
-                .map(|&j| position[j])
-                .fold(p, usize::min);
-            p - f + 1
-        })
-        .sum()
-}
-
-/// Breadth-first levels from `start` over the nodes not yet `placed`: (order visited, the
-/// level of each node, usize::MAX where not reached).
-fn bfs(adjacency: &[Vec<usize>], start: usize, placed: &[bool], level: &mut [usize]) -> Vec<usize> {
-    level.fill(usize::MAX);
-    let mut order = vec![start];
-    level[start] = 0;
-    let mut queue = VecDeque::from([start]);
-    while let Some(k) = queue.pop_front() {
-        let mut next: Vec<usize> = adjacency[k]
-            .iter()
-            .copied()
-            .filter(|&j| !placed[j] && level[j] == usize::MAX)
-            .collect();
-        // Cuthill–McKee: neighbours by increasing degree.
-        next.sort_by_key(|&j| (adjacency[j].len(), j));
-        for j in next {
-            level[j] = level[k] + 1;
-            order.push(j);
-            queue.push_back(j);
-        }
-    }
-    order
-}
-
-/// Reverse Cuthill–McKee ordering of a graph given by its adjacency lists (ref. 1, §4.3): each
-/// connected component from a pseudo-peripheral node (George–Liu: restart from a node of least
-/// degree on the last level while the eccentricity grows), breadth first, neighbours by
-/// increasing degree; the whole order reversed.
-fn reverse_cuthill_mckee(adjacency: &[Vec<usize>]) -> Vec<usize> {
-    let m = adjacency.len();
-    let mut placed = vec![false; m];
-    let mut level = vec![usize::MAX; m];
-    let mut order = Vec::with_capacity(m);
-    while let Some(seed) = (0..m)
-        .filter(|&k| !placed[k])
-        .min_by_key(|&k| (adjacency[k].len(), k))
-    {
-        let mut visit = bfs(adjacency, seed, &placed, &mut level);
-        let mut eccentricity = visit.last().map_or(0, |&k| level[k]);
-        // A handful of restarts finds a pseudo-peripheral node on the graphs of linkages.
-        for _ in 0..8 {
-            let Some(candidate) = visit
-                .iter()
-                .copied()
-                .filter(|&k| level[k] == eccentricity)
-                .min_by_key(|&k| (adjacency[k].len(), k))
-            else {
-                break;
-            };
-            let trial = bfs(adjacency, candidate, &placed, &mut level);
-            let e = trial.last().map_or(0, |&k| level[k]);
-            if e <= eccentricity {
-                break;
-            }
-            (visit, eccentricity) = (trial, e);
-        }
-        for &k in &visit {
-            placed[k] = true;
-        }
-        order.extend(visit);
-    }
-    order.reverse();
-    order
 }
 
 #[cfg(test)]

@@ -44,7 +44,7 @@
 //! 4. Å. Björck, *Numerical Methods for Least Squares Problems*, SIAM, 1996, §2.8.4 (the
 //!    corrected semi-normal equations) and §1.2.5 (pseudo-inverse of a product).
 
-use super::super::cholesky;
+use crate::linalg::cholesky;
 use crate::mechanics::constraints::{ConstraintRow, pairs_on_common_bodies};
 
 /// Relative distance (of a row from the span of the rows before it) below which the pivot is

@@ -3,7 +3,7 @@
 //!
 //! Every evaluation of the generalised formulation factors Φ_qD at least once (Newton's last
 //! iterate, then the velocity solve and the f + 1 solves for B and c reuse the factors). The
-//! dense LU ([`super::lu`]) costs m³/3 flops; the sparse one ([`super::sparse_lu`]) costs what its
+//! dense LU ([`crate::linalg::dense_lu`]) costs m³/3 flops; the sparse one ([`super::sparse_lu`]) costs what its
 //! factors cost, linear in the number of bodies for a linkage, after a symbolic analysis (the
 //! pattern and its fill-reducing ordering) made once per partition. [`BlockSolver::Auto`] takes
 //! the sparse LU from [`SPARSE_FROM`] dependent coordinates on.
@@ -13,8 +13,8 @@
 //! row never depends on y). The same list of entries fills the dense matrix, so both solvers see
 //! the same numbers.
 
-use super::lu;
 use super::sparse_lu::SparseLu;
+use crate::linalg::dense_lu;
 use crate::mechanics::constraints::{ConstraintRow, ConstraintSet};
 
 /// Which LU factors the dependent block Φ_qD (see the module documentation).
@@ -215,7 +215,7 @@ impl DependentBlock {
                 for e in &self.entries {
                     a[e.row * m + e.column] = e.value(rows);
                 }
-                lu::factor(a, m, piv)
+                dense_lu::factor(a, m, piv)
             }
             Factors::Sparse(lu) => {
                 for (v, e) in lu.values_mut().iter_mut().zip(&self.entries) {
@@ -237,7 +237,7 @@ impl DependentBlock {
         match &mut self.factors {
             Factors::Dense { a, piv } => {
                 for column in b.chunks_mut(m.max(1)).take(ncols) {
-                    lu::solve(a, m, piv, column);
+                    dense_lu::solve(a, m, piv, column);
                 }
             }
             Factors::Sparse(lu) => lu.solve_columns(b, ncols),

@@ -80,7 +80,6 @@
 //!    Real-Time Challenge*, Springer, 1994, §6.5 (velocity transformations, Maggi's equations).
 
 pub mod block;
-pub mod lu;
 pub mod partition;
 pub mod sparse_lu;
 
@@ -91,6 +90,7 @@ use super::dae::{Dae, DaeOptions};
 use super::{
     Crossing, EventResponse, Formulation, FormulationError, Outputs, StepHooks, Tolerances,
 };
+use crate::linalg::dense_lu;
 use crate::mechanics::AppliedForces;
 use crate::mechanics::constraints::{ConstraintEval, ConstraintSet};
 use crate::model::{Baumgarte, Model};
@@ -562,14 +562,14 @@ impl Generalized {
                 }
             }
         }
-        if let Err(k) = lu::factor(&mut work.reduced, f, &mut work.reduced_piv) {
+        if let Err(k) = dense_lu::factor(&mut work.reduced, f, &mut work.reduced_piv) {
             return Err(FormulationError::NonFinite {
                 t,
                 body: self.dae.model().bodies[work.indep[k] / 3].name.clone(),
                 what: "reduced mass matrix".into(),
             });
         }
-        lu::solve(&work.reduced, f, &work.reduced_piv, &mut work.reduced_rhs);
+        dense_lu::solve(&work.reduced, f, &work.reduced_piv, &mut work.reduced_rhs);
         for (kk, &c) in work.indep.iter().enumerate() {
             acc[c] = work.reduced_rhs[kk];
         }
@@ -687,7 +687,8 @@ impl Generalized {
             return (1.0, 1.0);
         }
         self.fill_full(work);
-        let best = lu::complete_pivoting(&mut work.full, m, n, &mut work.cols, &mut work.col_perm);
+        let best =
+            dense_lu::complete_pivoting(&mut work.full, m, n, &mut work.cols, &mut work.col_perm);
         // The current block, scaled, in the first m columns of `full` (as an m × m matrix).
         work.full[..m * m].fill(0.0);
         for (i, &k) in self.active.iter().enumerate() {
@@ -703,7 +704,7 @@ impl Generalized {
                 }
             }
         }
-        let current = lu::complete_pivoting(
+        let current = dense_lu::complete_pivoting(
             &mut work.full[..m * m],
             m,
             m,
@@ -739,7 +740,7 @@ impl Generalized {
             return;
         }
         self.fill_full(work);
-        lu::complete_pivoting(&mut work.full, m, n, &mut work.cols, &mut work.col_perm);
+        dense_lu::complete_pivoting(&mut work.full, m, n, &mut work.cols, &mut work.col_perm);
         for &c in &work.cols[..m] {
             flags[c] = 0.0;
         }

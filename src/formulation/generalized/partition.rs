@@ -37,7 +37,7 @@
 //!    N. L. Zamarashkin, How to find a good submatrix, in *Matrix Methods: Theory, Algorithms
 //!    and Applications*, World Scientific, 2010, 247–256.
 
-use super::lu;
+use crate::linalg::dense_lu;
 
 /// ρ of the current independent coordinates and of the best set found (see the module
 /// documentation).
@@ -100,10 +100,10 @@ pub fn volumes(work: &mut VolumeWork, f: usize, n: usize) -> Option<Volumes> {
             work.gram[b * f + a] = dot;
         }
     }
-    lu::factor(&mut work.gram, f, &mut work.gram_piv).ok()?;
+    dense_lu::factor(&mut work.gram, f, &mut work.gram_piv).ok()?;
     let det: f64 = (0..f).map(|k| work.gram[k * f + k].abs()).product();
     let current = 1.0 / det.sqrt();
-    let chosen = lu::complete_pivoting(bt, f, n, &mut work.best, &mut work.col_perm);
+    let chosen = dense_lu::complete_pivoting(bt, f, n, &mut work.best, &mut work.col_perm);
     let best = chosen.volume * current;
     (current.is_finite() && best.is_finite()).then_some(Volumes { current, best })
 }

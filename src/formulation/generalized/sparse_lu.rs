@@ -27,7 +27,7 @@
 //! 2. J. R. Gilbert, T. Peierls, Sparse partial pivoting in time proportional to arithmetic
 //!    operations, *SIAM Journal on Scientific and Statistical Computing* 9 (1988) 862–874.
 
-use super::lu::SINGULAR_PIVOT;
+use crate::linalg::dense_lu::SINGULAR_PIVOT;
 use crate::linalg::sparse_lu::{SparseLuAnalysis, SparseLuFactors, is_square_pattern};
 use crate::linalg::sparse_refactor::PivotCheck;
 use faer::dyn_stack::{MemStack, StackReq};
@@ -77,7 +77,7 @@ const KEPT_PIVOTS: PivotCheck = PivotCheck(1.0);
 
 /// LU factors of an n × n sparse matrix with a fixed pattern (see the module documentation):
 /// the analysis and the factors of `linalg::sparse_lu`, with the singularity test of
-/// the dense [`super::lu::factor`].
+/// the dense [`crate::linalg::dense_lu::factor`].
 #[derive(Debug, Clone)]
 pub struct SparseLu {
     n: usize,
@@ -122,7 +122,7 @@ impl SparseLu {
 
     /// Numeric LU of the current values. Fails with the original index of the row whose pivot
     /// is below [`SINGULAR_PIVOT`] times the largest entry, or NaN (singular to working
-    /// precision, as the dense [`super::lu::factor`]).
+    /// precision, as the dense [`crate::linalg::dense_lu::factor`]).
     pub fn factor(&mut self) -> Result<(), usize> {
         if self.n == 0 {
             return Ok(());

@@ -98,7 +98,6 @@
 
 mod adapter;
 mod core;
-mod linalg;
 mod newton;
 mod settings;
 mod sparse;

@@ -4,10 +4,11 @@
 //! [`NewtonMatrices::new`] picks the storage once per run, from the setting and the formulation
 //! ([`Formulation::sparse_jacobian`]); the core sees only evaluate / factor / solve.
 
-use super::linalg::{ComplexLu, Partition, RealLu, Singular};
 use super::settings::{LinearSolver, SPARSE_MIN_STATES};
 use super::sparse::SparseLu;
 use crate::formulation::{Formulation, FormulationError};
+use crate::linalg::Singular;
+use crate::linalg::shifted_lu::{ComplexLu, Partition, RealLu};
 
 /// The dense path: J row-major (n²), its decoupled components, the two dense LUs.
 ///
@@ -55,7 +56,7 @@ struct Sparse {
 pub(super) struct NewtonMatrices(Storage);
 
 enum Storage {
-    /// Dense LU of J ([`super::linalg`]).
+    /// Dense LU of J ([`crate::linalg::shifted_lu`]).
     Dense(Box<Dense>),
     /// Sparse LU of the augmented Jacobian ([`super::sparse`]).
     Sparse(Box<Sparse>),

@@ -20,8 +20,8 @@
 //! **Singularity**: a zero or non-finite pivot is reported as [`Singular`], as the dense LU
 //! reports its own.
 
-use super::linalg::Singular;
 use crate::formulation::sparse_jacobian::SparsePattern;
+use crate::linalg::Singular;
 use crate::linalg::sparse_lu::{SingularColumn, SparseLuAnalysis, SparseLuFactors};
 use crate::linalg::sparse_refactor::PivotCheck;
 use faer::c64;
@@ -166,7 +166,7 @@ const KEPT_PIVOTS: PivotCheck = PivotCheck(0.1);
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solve::radau5::linalg::{ComplexLu, Partition, RealLu};
+    use crate::linalg::shifted_lu::{ComplexLu, Partition, RealLu};
 
     /// 𝒥 of y' = g = (y₁, z₀), 0 = k = z₀ + 2y₀ + y₁ − z₁, 0 = z₁ − 3y₁ + y₀ (n = 2, m = 2):
     /// eliminating z gives z₁ = 3y₁ − y₀, z₀ = −3y₀ + 2y₁, so J = [[0, 1], [−3, 2]].

@@ -1,8 +1,13 @@
 //! In-place Cholesky factorisation and solve of a small dense SPD matrix (row-major).
 //!
-//! For the m ≲ 30 constraint rows of a linkage, a plain loop beats library calls (no allocation,
-//! no dispatch); see "Small dense linear algebra" in `docs/measurements.md` for the measurements
-//! that chose it.
+//! Users: the DAE's Schur complement up to `formulation::schur::DENSE_MAX_ROWS` (16) rows, the
+//! assembly's row basis.
+//!
+//! Kept by measurement (`cargo bench --bench linalg -- spd_small`, factor + solve of one
+//! right-hand side, 2026-11-28, docs/measurements.md "One place for the linear algebra"):
+//! 104 ns at m = 7 (the four-bar's Schur complement) against 281 ns for nalgebra's Cholesky
+//! and 651 ns for faer's; 641 ns at m = 16 against 1.03 µs and 1.40 µs. No allocation, no
+//! dispatch, and the loops unrolled for each m up to 10.
 
 /// Factors the SPD matrix `a` (m × m, row-major; only the lower triangle is read) in place
 /// into L, lower triangle, with the *reciprocal* 1/L_jj stored on the diagonal so that
