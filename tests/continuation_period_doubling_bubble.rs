@@ -20,7 +20,7 @@
 use linkdyn::analysis::AnalysisError;
 use linkdyn::analysis::orbit::{
     Branch, BranchEnd, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind, continue_orbit,
-    switch_branch,
+    continue_orbit_watched, switch_branch, switch_branch_watched,
 };
 use linkdyn::formulation::{Formulation, FormulationError, NoStepHooks};
 use linkdyn::solve::{Method, SolverOptions};
@@ -205,4 +205,44 @@ fn only_a_located_period_doubling_starts_a_branch() {
         e,
         "invalid at: expected a located period doubling, got the point at p = -0.5 (no special point)"
     );
+}
+
+/// Progress sees every point of both branches once, in order, as it joins: the located period
+/// doublings, the end at `to` and the switched branch's start and junction included. A watch
+/// that answers false ends the branch there, `stopped`, with the points so far.
+#[test]
+fn the_watch_sees_every_point_once_in_order() {
+    let mut seen = Vec::new();
+    let rest = continue_orbit_watched(&InP, &[0.0, 0.0], &options(), &solver(), &mut |p| {
+        seen.push((p.parameter, p.special));
+        true
+    })
+    .unwrap_or_else(|e| panic!("{e}"));
+    let rows = |b: &Branch| -> Vec<(f64, Option<SpecialKind>)> {
+        b.points.iter().map(|p| (p.parameter, p.special)).collect()
+    };
+    assert_eq!(seen, rows(&rest));
+    let at = rest
+        .points
+        .iter()
+        .find(|p| p.special == Some(SpecialKind::PeriodDoubling))
+        .unwrap_or_else(|| panic!("no PD"));
+    let mut seen = Vec::new();
+    let bubble = switch_branch_watched(&InP, 1, at, &options(), &solver(), &mut |p| {
+        seen.push((p.parameter, p.special));
+        true
+    })
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(seen, rows(&bubble));
+
+    // Stopped after the third point.
+    let mut count = 0;
+    let stopped = continue_orbit_watched(&InP, &[0.0, 0.0], &options(), &solver(), &mut |_| {
+        count += 1;
+        count < 3
+    })
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(stopped.end, BranchEnd::Stopped);
+    assert_eq!(count, 3);
+    assert_eq!(stopped.points.len(), 3);
 }

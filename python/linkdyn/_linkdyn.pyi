@@ -319,6 +319,7 @@ class Model:
         period_turns: int = 1,
         guess_from_turn: int = 3,
         follow_doublings: int = 0,
+        progress: Union[bool, None, Callable[[Dict[str, Any]], Any]] = True,
         dt: float = 1e-4,
         formulation: str = "reduced",
         method: str = "dop853",
@@ -333,7 +334,11 @@ class Model:
         with ``follow_doublings`` N the period-2K branch from each located period doubling too,
         N doublings deep (rows' ``branch`` and ``turn``). The command's ``F.csv`` as arrays and
         its ``F.json``'s keys; see ``Continuation``. A branch that stops before ``to`` is
-        returned with a ``RuntimeWarning``."""
+        returned with a ``RuntimeWarning``. ``progress``: ``True`` a line on stderr, ``False``
+        or ``None`` nothing, or a callable ``progress(point)`` called after each point with a
+        dict (``points``, ``branch``, ``parameter``, ``stable``, ``max_abs_mu``, ``special``);
+        an exception from it, or Ctrl-C, ends the branch after the current point and is
+        raised."""
     def wear(
         self,
         turns: int,

@@ -1,8 +1,10 @@
-"""Progress of a sweep (``Model.bifurcation(progress=...)``).
+"""Progress of a sweep (``Model.bifurcation(progress=...)``) and of a continuation
+(``Model.continuation(progress=...)``).
 
-The compiled core calls ``update(done)`` from the calling thread, between points, holding the
-GIL only for that call (the points run on Rust threads without it), and ``close()`` at the end,
-also after an error or an interrupt.
+For a sweep the compiled core calls ``update(done)`` from the calling thread, between points,
+holding the GIL only for that call (the points run on Rust threads without it); for a
+continuation, whose number of points is not known ahead, ``point(p)`` with each point as it
+joins a branch. ``close()`` comes at the end, also after an error or an interrupt.
 """
 
 import sys
@@ -94,5 +96,81 @@ def reporter(progress: Any, total: int, description: str) -> Any:
         return _Callback(progress, total)
     raise TypeError(
         "progress=: expected True, False, None or a callable progress(done, total), "
+        f"got {type(progress).__name__}"
+    )
+
+
+class _BranchSilent:
+    def point(self, p: dict) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+class _BranchCallback:
+    """A user's ``progress(point)``."""
+
+    def __init__(self, f: Callable[[dict], Any]) -> None:
+        self.f = f
+
+    def point(self, p: dict) -> None:
+        self.f(p)
+
+    def close(self) -> None:
+        pass
+
+
+class _BranchLine:
+    """One line on stderr: points so far, the last one's parameter and branch; redrawn in
+    place on a terminal (at most 10 times a second), else a new line at most every 10 s, and
+    always a last one."""
+
+    def __init__(self, description: str) -> None:
+        self.description = description
+        self.started = time.monotonic()
+        self.shown = 0.0
+        self.last: dict = {}
+        self.terminal = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+
+    def _text(self) -> str:
+        elapsed = time.monotonic() - self.started
+        p = self.last
+        text = f"{self.description}: {p.get('points', 0)} points, {elapsed:.0f} s"
+        if p:
+            text += f", last at {p['parameter']:.6g}"
+            if p["branch"]:
+                text += f" (branch {p['branch']})"
+        return text
+
+    def point(self, p: dict) -> None:
+        self.last = p
+        now = time.monotonic()
+        if now - self.shown < (0.1 if self.terminal else 10.0):
+            return
+        self.shown = now
+        if self.terminal:
+            sys.stderr.write("\r" + self._text() + "\x1b[K")
+        else:
+            sys.stderr.write(self._text() + "\n")
+        sys.stderr.flush()
+
+    def close(self) -> None:
+        sys.stderr.write(("\r" if self.terminal else "") + self._text() + "\n")
+        sys.stderr.flush()
+
+
+def branch_reporter(progress: Any, description: str) -> Any:
+    """The progress display of a continuation for ``progress=``: ``True`` a line on stderr,
+    ``False`` or ``None`` nothing, a callable ``progress(point)`` called after each point with
+    a dict (``points``, ``branch``, ``parameter``, ``stable``, ``max_abs_mu``, ``special``)."""
+    if progress is None or progress is False:
+        return _BranchSilent()
+    if progress is True:
+        return _BranchLine(description)
+    if callable(progress):
+        return _BranchCallback(progress)
+    raise TypeError(
+        "progress=: expected True, False, None or a callable progress(point), "
         f"got {type(progress).__name__}"
     )

@@ -592,13 +592,18 @@ impl PyModel {
     /// `linkdyn.Continuation` (the command's `F.csv` as arrays and its `F.json`'s keys); the
     /// GIL is released while Rust integrates.
     ///
+    /// `progress`: True a line on stderr (points so far, the last parameter value, its
+    /// branch), False/None nothing, or a callable `progress(point)` called after each point
+    /// with a dict (`points`, `branch`, `parameter`, `stable`, `max_abs_mu`, `special`). An
+    /// exception from it, or Ctrl-C, ends the branch after the current point and is raised.
+    ///
     /// A branch that stops before `to` (no orbit beyond a point with the smallest step, or
     /// too many points) is returned, with a `RuntimeWarning` saying where and why (the
     /// command writes its files and exits 3). Raises `SettingsError` (`to == from_`, a bad
     /// `step` or period), `ModelError` (an unknown `param` or a value the model refuses,
     /// prefixed `param PATH: `), `SolverError` (no orbit at `from_`, or a failed integration).
     #[pyo3(signature = (param, from_, to, *, step = None, period_turns = 1, guess_from_turn = 3,
-        follow_doublings = 0, **solve))]
+        follow_doublings = 0, progress = Progress::Flag(true), **solve))]
     #[allow(clippy::too_many_arguments)]
     fn continuation<'py>(
         &self,
@@ -610,6 +615,7 @@ impl PyModel {
         period_turns: i64,
         guess_from_turn: i64,
         follow_doublings: i64,
+        progress: Progress,
         solve: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let solve = Solve::from_kwargs_formulation("continuation", solve, "reduced")?;
@@ -625,7 +631,7 @@ impl PyModel {
             guess_from_turn,
             follow_doublings,
         };
-        orbit::branch(py, &self.model, &self.path, &text, &solve, args)
+        orbit::branch(py, &self.model, &self.path, &text, &solve, args, progress)
     }
 
     /// Archard wear of the model's worn clearance joint (the one with `[joints.wear]`) over

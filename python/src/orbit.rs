@@ -7,6 +7,7 @@
 use crate::analyses::{floats, ints, record, to_python};
 use crate::errors::Failed;
 use crate::settings::Solve;
+use crate::sweep::Progress;
 use linkdyn::Error;
 use linkdyn::analysis::orbit::BranchEnd;
 use linkdyn::model::Model;
@@ -14,7 +15,7 @@ use linkdyn::studies::continuation::{ContinuationRequest, continuation_watched};
 use linkdyn::studies::orbit::{OrbitPeriod, OrbitRequest, orbit};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyDict};
 use std::path::Path;
 
 /// A count given as a Python int that must be ≥ `least` (the command line's `usize` options).
@@ -151,11 +152,25 @@ pub fn branch<'py>(
     text: &str,
     solve: &Solve,
     a: ContinuationArgs,
+    progress: Progress,
 ) -> PyResult<Bound<'py, PyAny>> {
     let overrides = model.source.overrides.clone();
-    // Ctrl-C: Python's signal handlers run when the GIL is held, so each point takes it
-    // briefly to check; a KeyboardInterrupt ends the branch and is raised once Rust returns.
+    let progress = match progress {
+        Progress::Flag(b) => PyBool::new(py, b).to_owned().into_any().unbind(),
+        Progress::Other(o) => o,
+    };
+    let reporter: Py<PyAny> = py
+        .import("linkdyn._progress")?
+        .call_method1(
+            "branch_reporter",
+            (progress, format!("continuation {}", a.param)),
+        )?
+        .unbind();
+    // Ctrl-C and progress: Python's signal handlers run when the GIL is held, so each point
+    // takes it briefly to report itself and check; a KeyboardInterrupt (or an exception from
+    // the progress callback) ends the branch and is raised once Rust returns.
     let mut signal: Option<PyErr> = None;
+    let mut points = 0_usize;
     let result = py
         .detach(|| -> Result<_, Failed> {
             // The command line's checks, in its order.
@@ -216,21 +231,35 @@ pub fn branch<'py>(
                 follow_doublings,
                 options: solve.options()?,
             };
-            Ok(continuation_watched(
-                &request,
-                &mut |_, _| match Python::attach(|py| py.check_signals()) {
+            Ok(continuation_watched(&request, &mut |branch, point| {
+                points += 1;
+                let reported = Python::attach(|py| {
+                    let p = PyDict::new(py);
+                    p.set_item("points", points)?;
+                    p.set_item("branch", branch)?;
+                    p.set_item("parameter", point.parameter)?;
+                    p.set_item("stable", point.stable)?;
+                    p.set_item("max_abs_mu", point.spectral_radius)?;
+                    p.set_item("special", point.special.map_or("", |k| k.name()))?;
+                    reporter.bind(py).call_method1("point", (p,))?;
+                    py.check_signals()
+                });
+                match reported {
                     Ok(()) => true,
                     Err(e) => {
                         signal = Some(e);
                         false
                     }
-                },
-            )?)
+                }
+            })?)
         })
-        .map_err(|f| f.into_py(py, path))?;
+        .map_err(|f| f.into_py(py, path));
+    let closed = reporter.bind(py).call_method0("close");
+    let result = result?;
     if let Some(e) = signal {
         return Err(e);
     }
+    closed?;
     let rows = &result.rows;
     let n = rows.len();
     let d = result.names.len();

@@ -133,10 +133,21 @@ def test_a_followed_period_doubling_is_the_cli_s_bit_for_bit(cli, tmp_path):
     code, stdout, err = cli("continue", MODEL, "--set", "drivers.motor.speed_rpm=3500",
                             *args, *TOL, "--out", str(out))
     assert code == 0, err
+    seen = []
     b = linkdyn.load(MODEL, set=SPEED).continuation(
-        "joints.B.clearance", 0.0004155, 0.000407, step=0.000002, follow_doublings=1, **TOL_KW)
+        "joints.B.clearance", 0.0004155, 0.000407, step=0.000002, follow_doublings=1,
+        progress=seen.append, **TOL_KW)
     _, names, columns = read(out)
     assert names[-2:] == ["branch", "turn"]
+    # Progress: every point once, as it joined its branch, in the rows' order (a row per point
+    # at turn 0), with its branch, parameter, stability and special point.
+    first_turn = b.turn == 0
+    assert [p["points"] for p in seen] == list(range(1, int(first_turn.sum()) + 1))
+    assert [p["parameter"] for p in seen] == list(b.parameter[first_turn])
+    assert [p["branch"] for p in seen] == list(b.branch[first_turn])
+    assert [p["stable"] for p in seen] == list(b.stable[first_turn])
+    assert [p["special"] for p in seen] == [s for s, t in zip(b.special, b.turn) if t == 0]
+    assert same_bits([p["max_abs_mu"] for p in seen], b.max_abs_mu[first_turn])
     for n in [names[0], *b.names, "period_s", "max_abs_mu", "branch", "turn"]:
         assert same_bits(columns[n], b[n]), f"{n}: {first_difference(columns[n], b[n])}"
     assert columns["special"] == b.special
@@ -183,6 +194,37 @@ def test_ctrl_c_ends_a_continuation_with_keyboard_interrupt():
     finally:
         timer.cancel()
         signal.signal(signal.SIGINT, previous)
+
+
+def test_an_exception_from_the_progress_callback_ends_the_continuation():
+    calls = []
+
+    def progress(point):
+        calls.append(point["parameter"])
+        if len(calls) == 3:
+            raise ValueError("enough")
+
+    with pytest.raises(ValueError, match="enough"):
+        linkdyn.load(MODEL, set=SPEED).continuation(
+            "joints.B.clearance", 0.00044, 0.0004, step=0.000002, progress=progress, **TOL_KW)
+    # The branch ended at the point that raised: no further point was reported.
+    assert len(calls) == 3
+    with pytest.raises(TypeError, match=r"progress=: expected True, False, None or a callable "
+                                        r"progress\(point\), got str"):
+        linkdyn.load(MODEL, set=SPEED).continuation(
+            "joints.B.clearance", 0.00044, 0.0004, progress="yes", **TOL_KW)
+
+
+def test_progress_true_writes_a_line_on_stderr(capfd):
+    b = linkdyn.load(MODEL, set=SPEED).continuation(
+        "joints.B.clearance", 0.00044, 0.000438, step=0.000001, progress=True, **TOL_KW)
+    err = capfd.readouterr().err
+    # Not a terminal: a line for the first point, then at most one every 10 s, and the closing
+    # line with the count and the last parameter.
+    assert re.match(r"continuation joints\.B\.clearance: 1 points, \d+ s, last at 0\.00044\n",
+                    err), err
+    assert re.search(rf"continuation joints\.B\.clearance: {len(b)} points, \d+ s, "
+                     r"last at 0\.000438\n$", err), err
 
 
 def _has_pandas() -> bool:

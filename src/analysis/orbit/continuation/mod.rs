@@ -374,14 +374,6 @@ pub fn continue_orbit_watched<Fam: OrbitFamily>(
         ));
     };
     let rows = vec![first.row(None)];
-    if !watch(&rows[0]) {
-        return Ok(Branch {
-            points: rows,
-            unlocated: Vec::new(),
-            end: BranchEnd::Stopped,
-            stats,
-        });
-    }
     let march = Marching {
         options,
         solver,
@@ -476,7 +468,9 @@ impl Marching<'_> {
 
     /// Marches from `first` (whose row `rows` ends with) with steps from `ds` (scaled
     /// arclength) until the branch reaches `to`, leaves the range at `from`, rejoins the
-    /// period-K branch (a period-2K branch), or fails.
+    /// period-K branch (a period-2K branch), or fails; every row, those given included, is
+    /// given to `watch` once, in order, as it joins (it ends the branch when it answers
+    /// false).
     fn run<Fam: OrbitFamily>(
         &self,
         family: &Fam,
@@ -487,6 +481,20 @@ impl Marching<'_> {
         watch: Watch<'_>,
     ) -> (Vec<BranchPoint>, Vec<(SpecialKind, f64, String)>, BranchEnd) {
         let (options, scales, solver) = (self.options, self.scales, self.solver);
+        // Rows given to `watch` so far: every row once, in order, the located special points
+        // and the branch's ends included.
+        let mut reported = 0;
+        let mut report = |rows: &[BranchPoint]| -> bool {
+            let mut go_on = true;
+            while go_on && reported < rows.len() {
+                go_on = watch(&rows[reported]);
+                reported += 1;
+            }
+            go_on
+        };
+        if !report(&rows) {
+            return (rows, Vec::new(), BranchEnd::Stopped);
+        }
         let n = first.solved.y.len();
         let dir = (options.to - options.from).signum();
         let e_p = parameter_direction(n);
@@ -667,10 +675,11 @@ impl Marching<'_> {
             let iterations = next.solved.iterations;
             rows.push(next.row(None));
             last = next;
+            let go_on = report(&rows);
             if to_reach.is_some() {
                 break BranchEnd::Reached;
             }
-            if rows.last().is_some_and(|row| !watch(row)) {
+            if !go_on {
                 break BranchEnd::Stopped;
             }
             // Newton converges linearly here (the monodromy in contact is ~1e-3 accurate), so an
@@ -683,6 +692,9 @@ impl Marching<'_> {
             }
             ds = ds.max(ds_min);
         };
+        // The rows of the last step (a junction, a failure) are shown too; the branch has
+        // ended, so the answer does not matter.
+        report(&rows);
         (rows, unlocated, end)
     }
 }
