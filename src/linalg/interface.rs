@@ -179,7 +179,9 @@ pub struct ShiftedLu {
 }
 
 impl ShiftedLu {
-    /// For the pattern of the non-zeros of `a` (n × n, row-major).
+    /// For the pattern of the non-zeros of `a` (n × n, row-major). The matrices factored
+    /// later must keep zero where it is zero off the diagonal: a component decoupled in the
+    /// pattern is solved by a division, whatever its row or column then holds.
     pub fn for_pattern_of(a: &[f64], n: usize) -> Self {
         let negated: Vec<f64> = a[..n * n].iter().map(|v| -v).collect();
         let mut part = Partition::new(n);
