@@ -45,26 +45,20 @@ class _Tqdm:
         self.bar.close()
 
 
-class _Line:
-    """Without tqdm: one line on stderr, redrawn in place on a terminal (at most 10 times a
-    second), else a new line at most every 10 s, and always a last one."""
+class _StderrLine:
+    """One line on stderr, redrawn in place on a terminal (at most 10 times a second), else a
+    new line at most every 10 s, and always a last one; ``_text()`` says what it shows."""
 
-    def __init__(self, total: int, description: str) -> None:
-        self.total, self.description = total, description
+    def __init__(self, description: str) -> None:
+        self.description = description
         self.started = time.monotonic()
         self.shown = 0.0
-        self.done = 0
         self.terminal = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
 
     def _text(self) -> str:
-        elapsed = time.monotonic() - self.started
-        text = f"{self.description}: {self.done}/{self.total} points, {elapsed:.0f} s"
-        if 0 < self.done < self.total:
-            text += f", ~{elapsed * (self.total - self.done) / self.done:.0f} s left"
-        return text
+        raise NotImplementedError
 
-    def update(self, done: int) -> None:
-        self.done = done
+    def _show(self) -> None:
         now = time.monotonic()
         if now - self.shown < (0.1 if self.terminal else 10.0):
             return
@@ -78,6 +72,26 @@ class _Line:
     def close(self) -> None:
         sys.stderr.write(("\r" if self.terminal else "") + self._text() + "\n")
         sys.stderr.flush()
+
+
+class _Line(_StderrLine):
+    """A sweep without tqdm: points done of the total, the time so far and left."""
+
+    def __init__(self, total: int, description: str) -> None:
+        super().__init__(description)
+        self.total = total
+        self.done = 0
+
+    def _text(self) -> str:
+        elapsed = time.monotonic() - self.started
+        text = f"{self.description}: {self.done}/{self.total} points, {elapsed:.0f} s"
+        if 0 < self.done < self.total:
+            text += f", ~{elapsed * (self.total - self.done) / self.done:.0f} s left"
+        return text
+
+    def update(self, done: int) -> None:
+        self.done = done
+        self._show()
 
 
 def reporter(progress: Any, total: int, description: str) -> Any:
@@ -121,17 +135,12 @@ class _BranchCallback:
         pass
 
 
-class _BranchLine:
-    """One line on stderr: points so far, the last one's parameter and branch; redrawn in
-    place on a terminal (at most 10 times a second), else a new line at most every 10 s, and
-    always a last one."""
+class _BranchLine(_StderrLine):
+    """A continuation: points so far, the time, the last point's parameter and branch."""
 
     def __init__(self, description: str) -> None:
-        self.description = description
-        self.started = time.monotonic()
-        self.shown = 0.0
+        super().__init__(description)
         self.last: dict = {}
-        self.terminal = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
 
     def _text(self) -> str:
         elapsed = time.monotonic() - self.started
@@ -145,19 +154,7 @@ class _BranchLine:
 
     def point(self, p: dict) -> None:
         self.last = p
-        now = time.monotonic()
-        if now - self.shown < (0.1 if self.terminal else 10.0):
-            return
-        self.shown = now
-        if self.terminal:
-            sys.stderr.write("\r" + self._text() + "\x1b[K")
-        else:
-            sys.stderr.write(self._text() + "\n")
-        sys.stderr.flush()
-
-    def close(self) -> None:
-        sys.stderr.write(("\r" if self.terminal else "") + self._text() + "\n")
-        sys.stderr.flush()
+        self._show()
 
 
 def branch_reporter(progress: Any, description: str) -> Any:
