@@ -15,7 +15,7 @@ use linkdyn::studies::continuation::{ContinuationRequest, continuation_watched};
 use linkdyn::studies::orbit::{OrbitPeriod, OrbitRequest, orbit};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict};
+use pyo3::types::PyDict;
 use std::path::Path;
 
 /// A count given as a Python int that must be ≥ `least` (the command line's `usize` options).
@@ -155,15 +155,14 @@ pub fn branch<'py>(
     progress: Progress,
 ) -> PyResult<Bound<'py, PyAny>> {
     let overrides = model.source.overrides.clone();
-    let progress = match progress {
-        Progress::Flag(b) => PyBool::new(py, b).to_owned().into_any().unbind(),
-        Progress::Other(o) => o,
-    };
     let reporter: Py<PyAny> = py
         .import("linkdyn._progress")?
         .call_method1(
             "branch_reporter",
-            (progress, format!("continuation {}", a.param)),
+            (
+                progress.into_object(py),
+                format!("continuation {}", a.param),
+            ),
         )?
         .unbind();
     // Ctrl-C and progress: Python's signal handlers run when the GIL is held, so each point

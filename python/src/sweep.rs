@@ -44,6 +44,16 @@ pub enum Progress {
     Other(Py<PyAny>),
 }
 
+impl Progress {
+    /// The Python object given, for `linkdyn._progress` to judge.
+    pub fn into_object(self, py: Python<'_>) -> Py<PyAny> {
+        match self {
+            Progress::Flag(b) => PyBool::new(py, b).to_owned().into_any().unbind(),
+            Progress::Other(o) => o,
+        }
+    }
+}
+
 /// Options of `Model.bifurcation` beyond the solve settings.
 pub struct SweepArgs {
     pub param: String,
@@ -323,14 +333,10 @@ pub fn bifurcation<'py>(
         .detach(|| a.plan(model, path, solve))
         .map_err(|f| f.into_py(py, path))?;
     let sweep = a.sweep(path, model, &plan);
-    let progress = match progress {
-        Progress::Flag(b) => PyBool::new(py, b).to_owned().into_any().unbind(),
-        Progress::Other(o) => o,
-    };
     let reporter = py.import("linkdyn._progress")?.call_method1(
         "reporter",
         (
-            progress,
+            progress.into_object(py),
             plan.indices.len(),
             format!("bifurcation {}", a.param),
         ),

@@ -119,10 +119,27 @@ pub const SINGULAR_PIVOT: f64 = 1e-14;
 /// times the largest entry, or NaN.
 pub fn factor(a: &mut [f64], m: usize, piv: &mut [usize]) -> Result<(), usize> {
     debug_assert!(a.len() >= m * m && piv.len() >= m);
-    // Slices of known length and rows as chunks: no index checks in the inner loops (the
-    // same operations in the same order as index loops, so the same factors to the bit).
     let a = &mut a[..m * m];
     let scale = a.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
+    eliminate(a, m, piv, |best| {
+        !(best.is_nan() || best <= SINGULAR_PIVOT * scale)
+    })
+}
+
+/// Gaussian elimination with partial (row) pivoting of the m × m matrix `a` (row-major,
+/// exactly m² entries) in place: L below the diagonal (unit diagonal not stored), U on and
+/// above it, row swaps in `piv`. `usable(|pivot|)` judges each pivot, the largest entry of its
+/// column below the diagonal; the first it refuses stops the elimination with `Err(k)`, its
+/// step. Shared by [`factor`] and Radau5's shifted LU (`linalg::shifted_lu`), which judge
+/// their pivots differently.
+pub(crate) fn eliminate(
+    a: &mut [f64],
+    m: usize,
+    piv: &mut [usize],
+    usable: impl Fn(f64) -> bool,
+) -> Result<(), usize> {
+    // Rows as chunks of a slice of known length: no index checks in the inner loops (the
+    // same operations in the same order as index loops, so the same factors to the bit).
     for k in 0..m {
         let mut p = k;
         let mut best = a[k * m + k].abs();
@@ -132,7 +149,7 @@ pub fn factor(a: &mut [f64], m: usize, piv: &mut [usize]) -> Result<(), usize> {
                 (p, best) = (i, v);
             }
         }
-        if best.is_nan() || best <= SINGULAR_PIVOT * scale {
+        if !usable(best) {
             return Err(k);
         }
         piv[k] = p;

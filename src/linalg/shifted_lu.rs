@@ -133,42 +133,9 @@ impl RealLu {
                 return Err(Singular { column: j });
             }
         }
-        let a = &mut self.lu;
-        for k in 0..n {
-            let mut p = k;
-            let mut best = a[k * n + k].abs();
-            for i in k + 1..n {
-                let v = a[i * n + k].abs();
-                if v > best {
-                    best = v;
-                    p = i;
-                }
-            }
-            self.piv[k] = p;
-            // A NaN pivot (from a NaN Jacobian) fails this test too.
-            if best.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                return Err(Singular { column: k });
-            }
-            if p != k {
-                let (top, bottom) = a.split_at_mut(p * n);
-                top[k * n..(k + 1) * n].swap_with_slice(&mut bottom[..n]);
-            }
-            let inv = 1.0 / a[k * n + k];
-            // Rows below the pivot row as slices (no index checks in the inner loop; the same
-            // operations in the same order).
-            let (top, below) = a[..n * n].split_at_mut((k + 1) * n);
-            let pivot_row = &top[k * n + k + 1..(k + 1) * n];
-            for row in below.chunks_exact_mut(n) {
-                let m = row[k] * inv;
-                row[k] = m;
-                if m != 0.0 {
-                    for (x, &p) in row[k + 1..].iter_mut().zip(pivot_row) {
-                        *x -= m * p;
-                    }
-                }
-            }
-        }
-        Ok(())
+        // A NaN pivot (from a NaN Jacobian) is refused too.
+        super::dense_lu::eliminate(&mut self.lu[..n * n], n, &mut self.piv, |best| best > 0.0)
+            .map_err(|column| Singular { column })
     }
 
     /// Solves (s·I − J) x = b in place.
