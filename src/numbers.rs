@@ -57,6 +57,20 @@ pub fn push_number(out: &mut String, x: f64) {
         return;
     }
     let mut buffer = ryu::Buffer::new();
+    // Where Ryū's own layout is Rust's, take it as it is: plain in [1e-4, 1e15) (Ryū: [1e-5,
+    // 1e16)) but for the ".0" Ryū gives an integer, and scientific below 1e-5 and from 1e16 on
+    // (same mantissa and exponent forms, "1.5e-7", "1e16"). This is the numbers of a result
+    // file: their re-layout below cost ≈ 700 instructions a number, twice Ryū's own.
+    if (1e-4..1e15).contains(&a) {
+        let text = buffer.format_finite(x);
+        out.push_str(text.strip_suffix(".0").unwrap_or(text));
+        return;
+    }
+    if !(1e-5..1e16).contains(&a) {
+        out.push_str(buffer.format_finite(x));
+        return;
+    }
+    // [1e-5, 1e-4) and [1e15, 1e16): Rust's notation is not Ryū's; lay the digits out here.
     let text = buffer.format_finite(a).as_bytes();
     // Ryū writes "d.ddd", "0.000ddd" or "d.ddde±x": read the digits D (no leading or trailing
     // zeros) and the exponent k with |x| = 0.D × 10^k.
@@ -229,6 +243,17 @@ mod tests {
             cases.push(1.234_567 * 10f64.powi(i));
             cases.push(10f64.powi(i));
         }
+        // Result files' numbers: every magnitude from 1e-7 to 1e18 with random digits, both
+        // signs, and integers (Ryū writes "12.0" where Rust writes "12").
+        for i in 0..100_000 {
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            let unit = (state >> 11) as f64 / (1u64 << 53) as f64;
+            let x = (1.0 + 9.0 * unit) * 10f64.powi(i % 26 - 7);
+            cases.push(if i % 2 == 0 { x } else { -x });
+            cases.push(x.round());
+        }
         let mut out = String::new();
         let mut ties = 0;
         for x in cases {
@@ -251,9 +276,9 @@ mod tests {
             );
             ties += 1;
         }
-        // Measured: 56 ties in these 200 120 numbers (random bit patterns are mostly 17-digit
-        // numbers, where ties occur); a systematic difference would show in far more.
-        assert!(ties < 1000, "{ties} ties");
+        // Measured: 537 ties in these 400 120 numbers (most are 17-digit numbers, where ties
+        // occur); a systematic difference would show in far more.
+        assert!(ties < 2000, "{ties} ties");
     }
 
     #[test]

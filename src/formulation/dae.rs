@@ -117,6 +117,9 @@ struct Work {
     /// The last evaluation's (t, y) and q̈, for the grazing guard (only kept with clearance joints).
     last_t: f64,
     last_y: Vec<f64>,
+    /// The bodies' (sin φ, cos φ) at `last_y`: the event functions and the grazing guard at
+    /// a step end, where the FSAL stage was the last evaluation, take them from here.
+    last_sin_cos: Vec<(f64, f64)>,
     last_acc: Vec<f64>,
     /// Smallest [`Schur::min_pivot_ratio`] of the right-hand sides since the start of the step
     /// ([`StepHooks::begin_step`]; stages of rejected
@@ -247,6 +250,7 @@ impl Dae {
                 energy_rates: [0.0; 3],
                 last_t: f64::NAN,
                 last_y: Vec::new(),
+                last_sin_cos: Vec::new(),
                 last_acc: vec![0.0; 3 * nb],
                 min_pivot_ratio: 1.0,
                 stage_ratios: Vec::new(),
@@ -550,6 +554,12 @@ impl Dae {
             work.last_y.clear();
             work.last_y.extend_from_slice(y);
             work.last_acc.copy_from_slice(acc);
+            let Work {
+                last_sin_cos,
+                sin_cos,
+                ..
+            } = &mut *work;
+            last_sin_cos.clone_from(sin_cos);
         }
         Ok(())
     }
@@ -1021,6 +1031,21 @@ pub(super) fn sin_cos_of(q: &[f64]) -> Vec<(f64, f64)> {
     (0..q.len() / 3).map(|i| q[3 * i + 2].sin_cos()).collect()
 }
 
+impl Dae {
+    /// `use_them` with the bodies' (sin φ, cos φ) at (t, y): the last evaluation's where it was
+    /// at (t, y) (a step end, after the FSAL stage), else computed.
+    fn with_sin_cos<R>(&self, t: f64, y: &[f64], use_them: impl FnOnce(&[(f64, f64)]) -> R) -> R {
+        let n = self.n_coordinates();
+        {
+            let work = self.work.borrow();
+            if work.last_t == t && work.last_y.as_slice() == y {
+                return use_them(&work.last_sin_cos);
+            }
+        }
+        use_them(&sin_cos_of(&y[..n]))
+    }
+}
+
 impl StepHooks for Dae {
     /// The stages of the step start counting towards [`Dae::singular_passages`] and the
     /// projection near singular positions.
@@ -1136,12 +1161,13 @@ impl Formulation for Dae {
         self.contacts.n_events()
     }
 
-    fn events(&self, _t: f64, y: &[f64], g: &mut [f64]) {
+    fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
         let n = self.n_coordinates();
-        let sin_cos = sin_cos_of(&y[..n]);
         let stored = &y[2 * n..2 * n + self.contacts.len()];
-        self.contacts
-            .events_into(&y[..n], &y[n..2 * n], &sin_cos, stored, g);
+        self.with_sin_cos(t, y, |sin_cos| {
+            self.contacts
+                .events_into(&y[..n], &y[n..2 * n], sin_cos, stored, g);
+        });
     }
 
     /// Rising δ (impact): store δ̇⁽⁻⁾ = δ̇ at the located instant for the whole contact.
@@ -1200,13 +1226,11 @@ impl Formulation for Dae {
             return f64::INFINITY;
         }
         let n = self.n_coordinates();
-        let sin_cos = sin_cos_of(&y[..n]);
-        if self
-            .contacts
-            .all_in_contact(&y[..n], &y[n..2 * n], &sin_cos)
-        {
+        let (q, v) = (&y[..n], &y[n..2 * n]);
+        if self.with_sin_cos(t, y, |sin_cos| self.contacts.all_in_contact(q, v, sin_cos)) {
             return f64::INFINITY; // no free joint to guard: q̈ is not needed
         }
+        let sin_cos = sin_cos_of(q);
         let mut work = self.work.borrow_mut();
         // The integrators evaluate f at the step's end (FSAL), so q̈ is usually at hand.
         let cached = work.last_t == t && work.last_y.as_slice() == y;

@@ -113,7 +113,13 @@ impl Controller {
         }
         let fac11 = err.powf(self.expo1);
         if err <= 1.0 {
-            let fac = fac11 / self.err_old.powf(self.beta) / SAFETY;
+            // β = 0 (DOP853's default): no PI term, and no `powf` call for it on every step.
+            let pi_term = if self.beta == 0.0 {
+                1.0
+            } else {
+                self.err_old.powf(self.beta)
+            };
+            let fac = fac11 / pi_term / SAFETY;
             let fac = fac.clamp(1.0 / self.fac_max, 1.0 / self.fac_min);
             let mut h_next = h / fac;
             if self.last_rejected {
