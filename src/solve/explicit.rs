@@ -24,10 +24,12 @@
 //! error test across an event could be retried ending just past the secant estimate of the
 //! crossing instead of shrinking by the controller's factor (at an impact 3–5 rejections in a
 //! row): on farahan2016 at rtol 1e-9 it saved 2.2 % (reduced) and 2.5 % (DAE) of the RHS calls
-//! at the same error, but the period-2 branch switch of `tests/continuation_fourbar.rs` then no
-//! longer converged (its Newton iteration stalls at 1e4 tolerances). Why was not found; a
-//! guess is that step sizes taken from event values at rejected ends make the Poincaré map
-//! that shooting differentiates less smooth in the initial state. Starting the step after a cut from the cut attempt's proposal
+//! at the same error, but the period-2 branch switch of `tests/continuation_fourbar.rs` then
+//! failed (its Newton iteration stalled at 1e4 tolerances). That switch is on the edge of
+//! convergence rather than broken by the retry: it passes or fails with the last details of the
+//! retry (ending 1.001 times past the estimate, it passes if crossings in the last 1 % of the
+//! attempt are retried too and fails if they are not; 1.003, 1.01 and 1.05 times fail). The
+//! retry can come back once the switch converges with a margin. Starting the step after a cut from the cut attempt's proposal
 //! saved another 1 % but made the impact log's peaks three times less accurate.
 //!
 //! # References
