@@ -1031,6 +1031,13 @@ pub(super) fn sin_cos_of(q: &[f64]) -> Vec<(f64, f64)> {
     (0..q.len() / 3).map(|i| q[3 * i + 2].sin_cos()).collect()
 }
 
+impl Work {
+    /// Whether the kept evaluation (`last_y`, its q̈ and sines) is the one at (t, y).
+    fn holds_evaluation_at(&self, t: f64, y: &[f64]) -> bool {
+        self.last_t == t && self.last_y.as_slice() == y
+    }
+}
+
 impl Dae {
     /// `use_them` with the bodies' (sin φ, cos φ) at (t, y): the last evaluation's where it was
     /// at (t, y) (a step end, after the FSAL stage), else computed.
@@ -1038,7 +1045,7 @@ impl Dae {
         let n = self.n_coordinates();
         {
             let work = self.work.borrow();
-            if work.last_t == t && work.last_y.as_slice() == y {
+            if work.holds_evaluation_at(t, y) {
                 return use_them(&work.last_sin_cos);
             }
         }
@@ -1230,18 +1237,17 @@ impl Formulation for Dae {
         if self.with_sin_cos(t, y, |sin_cos| self.contacts.all_in_contact(q, v, sin_cos)) {
             return f64::INFINITY; // no free joint to guard: q̈ is not needed
         }
-        let sin_cos = sin_cos_of(q);
         let mut work = self.work.borrow_mut();
         // The integrators evaluate f at the step's end (FSAL), so q̈ is usually at hand.
-        let cached = work.last_t == t && work.last_y.as_slice() == y;
-        if !cached {
+        if !work.holds_evaluation_at(t, y) {
             let mut acc = vec![0.0; n];
             if self.accelerations_into(t, y, &mut acc, &mut work).is_err() {
                 // The failing evaluation is reported by the integrator's own rhs call.
                 return f64::INFINITY;
             }
         }
+        // The evaluation at (t, y), cached or just made, kept its sines beside q̈.
         self.contacts
-            .max_step(&y[..n], &y[n..2 * n], &work.last_acc, &sin_cos)
+            .max_step(q, v, &work.last_acc, &work.last_sin_cos)
     }
 }
