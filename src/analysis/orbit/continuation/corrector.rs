@@ -37,7 +37,8 @@ pub(super) struct Solved {
     pub rho: f64,
     pub history: Vec<f64>,
     pub iterations: usize,
-    /// ∂(P_p(x) − x)/∂p by a forward difference (full state length; raw units per unit p).
+    /// ∂(P_p(x) − x)/∂p by a forward difference at the last iterate before the point (full
+    /// state length; raw units per unit p).
     pub g_p: Vec<f64>,
 }
 
@@ -129,14 +130,24 @@ pub(super) fn correct<Fam: OrbitFamily>(
     if !ev.rho.is_finite() {
         return Err(fail("the period map is not finite".into(), &[ev.rho]));
     }
-    // ∂G/∂p by a forward difference at the predicted point, kept for the whole correction (a
-    // chord in that column: the residual, not the Jacobian, decides convergence).
-    let h = newton.fd_step * p.abs().max(scales.parameter);
-    let at_h = family.at(p + h)?;
-    let shifted = plain(&at_h.f, at_h.t0, &y, at_h.t0 + at_h.period, solver, stats)?;
-    let g_p: Vec<f64> = (0..n)
-        .map(|i| (shifted[i] - ev.shot.y_end[i]) / h)
-        .collect();
+    // ∂G/∂p by a forward difference at every iterate (one plain integration each). Kept from
+    // the predicted point through the correction (a chord in that column), it stalled the
+    // first point of a branch switched to at a period doubling, where the amplitude is fixed
+    // and p is the unknown that moves: there ∂G/∂p's part along the near-null direction of
+    // M − I is of the order of the amplitude and changes with p. On the four-bar's bubble a
+    // switch then failed in 9 of 14 runs at tolerances around 1e-10, and in 1 now
+    // (docs/periodic_orbits.md, "The parameter's column").
+    let column = |y: &[f64], p: f64, y_end: &[f64], stats: &mut SolverStats| {
+        let h = newton.fd_step * p.abs().max(scales.parameter);
+        let at_h = family.at(p + h)?;
+        let shifted = plain(&at_h.f, at_h.t0, y, at_h.t0 + at_h.period, solver, stats)?;
+        Ok::<_, AnalysisError>(
+            (0..n)
+                .map(|i| (shifted[i] - y_end[i]) / h)
+                .collect::<Vec<_>>(),
+        )
+    };
+    let mut g_p = column(&y, p, &ev.shot.y_end, stats)?;
     let mut history = vec![ev.rho];
     let mut iterations = 0;
     let mut done = ev.rho <= 1.0;
@@ -148,6 +159,9 @@ pub(super) fn correct<Fam: OrbitFamily>(
             ));
         }
         iterations += 1;
+        if iterations > 1 {
+            g_p = column(&y, p, &ev.shot.y_end, stats)?;
+        }
         let delta = newton_step(&ev, &y, p, y_pred, p_pred, c, &g_p, scales)
             .ok_or_else(|| fail("the augmented Jacobian is singular".into(), &history))?;
         // The step in units of ε, the parameter's included (ε_p = rtol·max(|p|, σ_p)): with

@@ -17,9 +17,10 @@
 //! has c = e_p (p fixed at `from`), and so has the last (p = `to`). The Jacobian is
 //! \[\[M − I, ∂G/∂p\], \[c\]\]: M the monodromy matrix of the shot (variational equations with
 //! saltation matrices), ∂G/∂p a forward difference of the period map in p (relative step
-//! √rtol, [`ContinuationOptions::fd_step`]), formed once at the
-//! predicted point and kept through the correction (a chord in that column). The tangent at a
-//! point solves \[\[M − I, ∂G/∂p\], \[v_last\]\] t = (0, 1).
+//! √rtol, [`ContinuationOptions::fd_step`]), formed again at every iterate of the correction
+//! (kept from the predicted point, as a chord in that column, it stalled at period
+//! doublings: `corrector.rs`). The tangent at a point solves
+//! \[\[M − I, ∂G/∂p\], \[v_last\]\] t = (0, 1), with ∂G/∂p from the last iterate.
 //!
 //! # Corrector
 //! Newton's method as in [`super::periodic_orbit`]: steps halved while the residual does not
