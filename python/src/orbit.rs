@@ -324,7 +324,7 @@ pub fn branch<'py>(
             result.points, a.param
         )),
         BranchEnd::Failed { message } => Some(format!(
-            "the branch stopped at {} = {last}, before to: no orbit beyond it with the smallest step: {message}",
+            "the branch stopped at {} = {last}, before to: {message}",
             a.param
         )),
     };

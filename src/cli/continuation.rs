@@ -217,10 +217,7 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
                     "branch {} stopped at {} = {last}: {message}",
                     b.branch, args.param
                 ));
-                format!(
-                    "stopped at {} = {last}: no orbit beyond it with the smallest step: {message}",
-                    args.param
-                )
+                format!("stopped at {} = {last}: {message}", args.param)
             }
         };
         println!(
@@ -280,7 +277,7 @@ pub fn run(args: &ContinueArgs) -> Result<(), Failure> {
         BranchEnd::Failed { message } => Err(Failure {
             code: EXIT_SOLVER,
             message: format!(
-                "the branch stopped at {} = {last}, before --to: no orbit beyond it with the smallest step (files written): {message}",
+                "the branch stopped at {} = {last}, before --to (files written): {message}",
                 args.param
             ),
         }),

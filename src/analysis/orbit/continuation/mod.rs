@@ -212,9 +212,12 @@ pub enum BranchEnd {
     /// The caller's watch asked to stop after the last point (an interrupt):
     /// [`continue_orbit_watched`].
     Stopped,
-    /// No point was found beyond the last with the smallest step.
+    /// The branch ended without reaching one of the ends above: no point beyond the last with
+    /// the smallest step, no orbit at a junction, or a switched branch that returned to the
+    /// period doubling it started from.
     Failed {
-        /// The corrector's last message.
+        /// Why, in words (for a step that found no point: "no orbit beyond it with the smallest
+        /// step: " and the corrector's last message).
         message: String,
     },
 }
@@ -554,7 +557,7 @@ impl Marching<'_> {
                     ds *= 0.5;
                     if ds < ds_min {
                         break BranchEnd::Failed {
-                            message: e.to_string(),
+                            message: format!("no orbit beyond it with the smallest step: {e}"),
                         };
                     }
                     continue;
