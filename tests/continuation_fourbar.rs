@@ -204,25 +204,24 @@ fn the_branch_loses_period_one_where_the_brute_force_sections_do() {
     }
 }
 
-#[test]
-fn the_period_two_branch_spans_the_bubble_as_the_brute_force_sections_do() {
-    let b = branch();
-    let phi = rocker(b);
+/// The one switch of `b`, checked: at the upper period doubling (met first from 0.44 mm), a
+/// branch of period 2 turns with every change located, rejoining at the lower one, which then
+/// starts no second branch; no failed switch. Returns (lower, upper) period doubling and the
+/// junction.
+fn one_switch_across_the_bubble(b: &ContinuationResult) -> (f64, f64, f64) {
     let (lo, hi) = doublings(b);
-    // One switch: at the upper period doubling (met first from 0.44 mm); the lower one is
-    // where that branch rejoins, so it starts no second one.
     assert_eq!(b.branches.len(), 2, "{:?}", b.branches);
     assert!(b.switch_failures.is_empty(), "{:?}", b.switch_failures);
     let two = &b.branches[1];
     assert_eq!(two.period_turns, 2);
     assert_eq!(two.switched_from, Some((0, hi)));
     assert!(two.unlocated.is_empty(), "{:?}", two.unlocated);
-    // It rejoins at the lower period doubling. The two are located independently (the
-    // junction by the square-root law of the halves and the multiplier's secant through −1
-    // along the period-1 orbits; the branch's by its multiplier's crossing), with the
-    // monodromy ~1e-3 accurate in contact where the multiplier stays within 0.02 of −1 over
-    // 0.4079–0.4085 mm: measured 5.5e-8 m apart, 0.8 % of the bubble (2.7e-7 m, 4 %, while
-    // the corrector kept ∂G/∂p from the predicted point).
+    // The two are located independently (the junction by the square-root law of the halves
+    // and the multiplier's secant through −1 along the period-1 orbits; the branch's by its
+    // multiplier's crossing), with the monodromy ~1e-3 accurate in contact where the
+    // multiplier stays within 0.02 of −1 over 0.4079–0.4085 mm: measured at rtol 1e-10 5.5e-8 m
+    // apart, 0.8 % of the bubble (2.7e-7 m, 4 %, while the corrector kept ∂G/∂p from the
+    // predicted point).
     let BranchEnd::Rejoined { parameter } = two.end else {
         panic!("{:?}", two.end)
     };
@@ -230,6 +229,15 @@ fn the_period_two_branch_spans_the_bubble_as_the_brute_force_sections_do() {
         (parameter - lo).abs() < 0.1 * (hi - lo),
         "rejoined at {parameter}, the period doubling at {lo} (bubble {lo}..{hi})"
     );
+    (lo, hi, parameter)
+}
+
+#[test]
+fn the_period_two_branch_spans_the_bubble_as_the_brute_force_sections_do() {
+    let b = branch();
+    let phi = rocker(b);
+    let (lo, hi, parameter) = one_switch_across_the_bubble(b);
+    let two = &b.branches[1];
     let (first, second) = (rows(b, 1, 0), rows(b, 1, 1));
     assert_eq!(first.len(), two.points);
     assert_eq!(second.len(), two.points);
@@ -295,24 +303,13 @@ fn the_period_two_branch_spans_the_bubble_as_the_brute_force_sections_do() {
     }
 }
 
-/// The switch does not hang on the tolerance that the tests above use. At rtol 0.9e-10 (and at
-/// 9 of 14 tolerances from 0.8e-10 to 2e-10) both switches failed while the corrector kept
-/// ∂G/∂p from its predicted point (Newton stalled at 1e4 tolerances: "a Newton step halved 8
-/// times still raises the residual"); with ∂G/∂p at every iterate the period-2 branch leaves
-/// the upper period doubling and rejoins at the lower one (measured 2.7 % of the bubble away).
+/// The switch does not hang on the tolerance that the tests above use. At rtol 0.9e-10 both
+/// switches failed while the corrector kept ∂G/∂p from its predicted point (Newton stalled at
+/// 1e4 tolerances: "a Newton step halved 8 times still raises the residual"; a switch failed
+/// in 9 of 14 runs at tolerances from 0.8e-10 to 2e-10); with ∂G/∂p at every iterate the
+/// period-2 branch leaves the upper period doubling and rejoins at the lower one (measured
+/// 2.7 % of the bubble away).
 #[test]
 fn the_switch_spans_the_bubble_at_a_neighbouring_tolerance() {
-    let b = compute_at(0.9e-10);
-    let (lo, hi) = doublings(&b);
-    assert!(b.switch_failures.is_empty(), "{:?}", b.switch_failures);
-    assert_eq!(b.branches.len(), 2, "{:?}", b.branches);
-    let two = &b.branches[1];
-    assert_eq!(two.switched_from, Some((0, hi)));
-    let BranchEnd::Rejoined { parameter } = two.end else {
-        panic!("{:?}", two.end)
-    };
-    assert!(
-        (parameter - lo).abs() < 0.1 * (hi - lo),
-        "rejoined at {parameter}, the period doubling at {lo} (bubble {lo}..{hi})"
-    );
+    one_switch_across_the_bubble(&compute_at(0.9e-10));
 }
