@@ -9,11 +9,10 @@
 //! McGraw-Hill, 2001, §3.2 (harmonic response) and §1.10 (free damped response); G. Teschl,
 //! *Ordinary Differential Equations and Dynamical Systems*, AMS, 2012, §3.6 (Floquet theory)).
 //!
-//! The model format can write this forcing (a `force` with `force = ["F0*sin(w*t)", 0]` on a
-//! slider), but periodic orbits are computed with the reduced formulation, which takes only
-//! the four-bar with one clearance joint: the oscillator is therefore written here as a
-//! formulation of its own, with its analytic Jacobian, and given to the library's shooting
-//! (`linkdyn::analysis::orbit`) directly — the same code that `linkdyn orbit` runs.
+//! The oscillator is written here as a formulation of its own, with its analytic Jacobian, and
+//! given to the library's shooting (`linkdyn::analysis::orbit`) directly: the shooting on a
+//! plain ODE, with no model behind it. `tests/orbit_dae.rs` runs the same oscillator as a
+//! model file (a slider on a spring-damper under `force = ["F0*sin(w*t)", 0]`) through the DAE.
 
 mod common;
 

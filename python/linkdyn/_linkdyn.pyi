@@ -305,8 +305,9 @@ class Model:
         """A periodic orbit by shooting, with its Floquet multipliers (``linkdyn orbit``):
         Newton's method on P^K(x) − x = 0 over ``period_turns`` driver turns (default 1; or
         ``period`` seconds), from the state after ``guess_from_turn`` periods of integration;
-        the monodromy from the variational equations with saltation matrices. Only the
-        reduced formulation (the default here, as on the command line). The command's
+        the monodromy from the variational equations with saltation matrices. The reduced
+        formulation (the default here, as on the command line) or ``"dae"`` (any linkage;
+        not ``"generalized"``). The command's
         ``F.json`` keys and one period of the orbit (its ``F.csv``); see ``PeriodicOrbit``.
         Raises ``SolverError`` (with ``residual_history``) when no orbit is found."""
     def continuation(

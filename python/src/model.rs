@@ -555,11 +555,11 @@ impl PyModel {
     /// turns (default 1; or `period` seconds), from the state after `guess_from_turn` periods
     /// (default 3) of integration; the monodromy matrix from the variational equations with
     /// saltation matrices at the contact events. Solve settings as `run`, with the command's
-    /// default `formulation="reduced"` (the only one supported). Returns a
+    /// default `formulation="reduced"` (or `"dae"` for any linkage). Returns a
     /// `linkdyn.PeriodicOrbit` (the keys of the command's `F.json`, and one period of the
     /// orbit as its `F.csv`'s columns); the GIL is released while Rust integrates.
     ///
-    /// Raises `SettingsError` (a bad period, another formulation), `ModelError`,
+    /// Raises `SettingsError` (a bad period, the generalized formulation), `ModelError`,
     /// `SolverError` (no orbit found: the message and `residual_history` have the residual
     /// history; or a failed integration).
     #[pyo3(signature = (*, period_turns = None, period = None, guess_from_turn = 3, **solve))]

@@ -37,13 +37,9 @@ def without_volatile(d):
     return d
 
 
-def test_orbit_is_the_cli_s_bit_for_bit(cli, tmp_path):
-    out = tmp_path / "o.json"
-    code, _, err = cli("orbit", MODEL, "--set", "drivers.motor.speed_rpm=3500", "--set",
-                       "joints.B.clearance=0.00044", *TOL, "--out", str(out))
-    assert code == 0, err
+def assert_same_orbit(out, o):
+    """The command's F.json (at `out`) and F.csv beside it against the Python orbit `o`."""
     js = json.loads(out.read_text())
-    o = linkdyn.load(MODEL, set=EXAMPLE).orbit(**TOL_KW)
     assert isinstance(o, linkdyn.PeriodicOrbit)
     # Every key of F.json is an attribute with the same value; the multipliers' [re, im]
     # pairs are complex numbers and the residual history an array.
@@ -66,6 +62,15 @@ def test_orbit_is_the_cli_s_bit_for_bit(cli, tmp_path):
     for n in names:
         assert same_bits(columns[n], o[n]), f"{n}: {first_difference(columns[n], o[n])}"
     assert o.samples.shape == (len(o.t), len(o.names))
+
+
+def test_orbit_is_the_cli_s_bit_for_bit(cli, tmp_path):
+    out = tmp_path / "o.json"
+    code, _, err = cli("orbit", MODEL, "--set", "drivers.motor.speed_rpm=3500", "--set",
+                       "joints.B.clearance=0.00044", *TOL, "--out", str(out))
+    assert code == 0, err
+    o = linkdyn.load(MODEL, set=EXAMPLE).orbit(**TOL_KW)
+    assert_same_orbit(out, o)
     # What the numbers say (docs/periodic_orbits.md, worked example): period 60/3500 s, a
     # stable orbit with one impact per turn, closed to within the Newton tolerance.
     assert o.converged and o.stable and o.impacts_per_period == 1
@@ -73,6 +78,22 @@ def test_orbit_is_the_cli_s_bit_for_bit(cli, tmp_path):
     assert o.state["rocker.phi"] == pytest.approx(1.4529894458, abs=1e-8)
     assert np.all(np.abs(o.floquet_multipliers) < 1)
     assert o.closing_error < 1000
+
+
+def test_a_dae_orbit_is_the_cli_s_bit_for_bit(cli, tmp_path):
+    # The slider-crank with clearance at both rod pins, which only the DAE takes
+    # (docs/periodic_orbits.md, "The DAE's orbits").
+    model = "models/slider_crank_clearance.toml"
+    out = tmp_path / "o.json"
+    code, _, err = cli("orbit", model, "--formulation", "dae", *TOL, "--out", str(out))
+    assert code == 0, err
+    o = linkdyn.load(model).orbit(formulation="dae", **TOL_KW)
+    assert_same_orbit(out, o)
+    # Both journals in contact all period: no impact, 8 multipliers (4 degrees of freedom),
+    # 2 x 5 constraint directions and the 2 kept stored impact velocities trivial.
+    assert o.stable and o.impacts_per_period == 0
+    assert len(o.floquet_multipliers) == 8 and o.trivial_multipliers == 12
+    assert o.period_s == pytest.approx(0.1, rel=1e-14)
 
 
 def test_continuation_is_the_cli_s_bit_for_bit(cli, tmp_path):
@@ -248,8 +269,8 @@ BRANCH = ["continue", MODEL, "--set", "drivers.motor.speed_rpm=3500", "--param",
           "joints.B.clearance", "--from", "0.00044", "--to", "0.00043"]
 
 CASES = [
-    ("orbit-dae", ORBIT + ["--formulation", "dae"], "json", orbit_call(formulation="dae"),
-     linkdyn.SettingsError),
+    ("orbit-generalized", ORBIT + ["--formulation", "generalized"], "json",
+     orbit_call(formulation="generalized"), linkdyn.SettingsError),
     ("orbit-period-0", ORBIT + ["--period-turns", "0"], "json", orbit_call(period_turns=0),
      linkdyn.SettingsError),
     ("orbit-negative-period", ORBIT + ["--period", "-0.1"], "json",

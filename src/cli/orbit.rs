@@ -18,8 +18,8 @@ pub struct OrbitArgs {
     model: PathBuf,
     #[command(flatten)]
     solve: SolveArgs,
-    /// Equations of motion: periodic orbits need `reduced` (the four-bar with one clearance
-    /// joint).
+    /// Equations of motion: `reduced` (the four-bar with one clearance joint) or `dae` (any
+    /// linkage); not `generalized`.
     #[arg(long, default_value = "reduced", value_parser = super::run::parse_formulation)]
     formulation: FormulationKind,
     /// Period in turns of the model's single driver (default 1).

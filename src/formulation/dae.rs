@@ -62,6 +62,7 @@ use std::cell::RefCell;
 
 use super::schur::{Schur, SchurSolver};
 
+mod consistency;
 pub mod diagnosis;
 mod jacobian;
 mod passages;
@@ -1161,6 +1162,13 @@ impl Formulation for Dae {
         }
     }
 
+    /// Every body's φ (the third coordinate of each body).
+    fn angular_states(&self, angular: &mut [bool]) {
+        for body in angular[..self.n_coordinates()].chunks_mut(3) {
+            body[2] = true;
+        }
+    }
+
     /// Events 0..n_c: the penetration δ of each clearance joint (m); after them, with
     /// [`Dae::friction_kink_events`], four per joint whose friction law has kinks: v_t ∓ v0,
     /// v_t ∓ v1 (m/s) while its contact is open ([`ContactSites::events_into`]).
@@ -1220,6 +1228,11 @@ impl Formulation for Dae {
     /// ([`diagnosis::dae`]).
     fn diagnose(&self, t: f64, y: &[f64]) -> Option<String> {
         diagnosis::dae(self, t, y)
+    }
+
+    /// Φ = 0 and Φ̇ = 0 over the active rows ([`consistency`]).
+    fn constrained_state(&self) -> Option<&dyn super::ConstrainedState> {
+        Some(self)
     }
 
     /// With λ as algebraic unknowns ([`residual`]).

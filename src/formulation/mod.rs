@@ -5,6 +5,7 @@
 //! mechanism: equations apart from method.
 
 pub mod assembly;
+pub mod constrained_state;
 pub mod contact_slopes;
 pub mod contacts;
 pub mod corner_contacts;
@@ -18,6 +19,7 @@ pub mod sparse_jacobian;
 #[cfg(test)]
 pub(crate) mod test_rng;
 
+pub use constrained_state::ConstrainedState;
 pub use dae::{Dae, DaeOptions};
 pub use generalized::Generalized;
 pub use reduced_lagrangian::ReducedLagrangian;
@@ -203,6 +205,11 @@ pub trait Formulation: StepHooks {
     /// ones, so bookkeeping never changes the steps taken. Default: every state is controlled.
     fn error_controlled(&self, _controlled: &mut [bool]) {}
 
+    /// Marks the states that are angles (rad), `angular` arriving all `false`: a periodic
+    /// motion returns to them up to whole turns (a driven crank's angle grows by 2π per turn),
+    /// so the shooting of periodic orbits compares them modulo 2π. Default: none.
+    fn angular_states(&self, _angular: &mut [bool]) {}
+
     /// Largest step the integrator may take from (t, y) (s). Formulations with events use it
     /// to make sure that no event can start and end inside one step. Default: unlimited.
     fn max_step(&self, _t: f64, _y: &[f64]) -> f64 {
@@ -224,6 +231,13 @@ pub trait Formulation: StepHooks {
     /// to its message ([`SolveError::NoProgress`](crate::solve::SolveError::NoProgress)).
     /// Default: `None` (nothing to add).
     fn diagnose(&self, _t: f64, _y: &[f64]) -> Option<String> {
+        None
+    }
+
+    /// The conditions every consistent state satisfies ([`constrained_state`]: the DAE's
+    /// Φ = 0 and Φ̇ = 0), for analyses that set the state themselves (periodic orbits).
+    /// Default: `None`, every state is consistent.
+    fn constrained_state(&self) -> Option<&dyn ConstrainedState> {
         None
     }
 }

@@ -1067,6 +1067,13 @@ impl Formulation for ReducedLagrangian {
         }
     }
 
+    /// θ3 and θ4.
+    fn angular_states(&self, angular: &mut [bool]) {
+        for a in angular.iter_mut().take(2) {
+            *a = true;
+        }
+    }
+
     /// Event 0: the penetration δ (m) of the clearance joint; events 1–4, if the friction law
     /// has kinks: the slip velocity at them, v_t ∓ v0, v_t ∓ v1 (m/s), in contact only
     /// (`contact/kinks.rs`).

@@ -2,12 +2,13 @@
 //! integration, the shooting ([`crate::analysis::orbit`]), its state as named output columns,
 //! its stability, and one period of it sampled for the CSV.
 //!
-//! Supported: the reduced formulation (the four-bar with one clearance joint), whose driver
-//! angle is time-like and whose only bookkeeping state is the stored impact velocity. The DAE
-//! keeps the driven crank's coordinates and the Baumgarte-stabilised constraint directions in
-//! its state (their multipliers would have to be told from the motion's), and the generalised
-//! formulation projects its state at step ends; both are refused with that reason
-//! (docs/periodic_orbits.md, "What is not done").
+//! Supported: the reduced formulation (the four-bar with one clearance joint) and the DAE (any
+//! linkage). The DAE's state has 2m constraint directions (Φ = 0, Φ̇ = 0, the driven crank's
+//! angle among them) that the motion does not have: the shooting steps in the consistent
+//! directions only and makes every iterate consistent ([`crate::analysis::orbit::coordinates`]),
+//! so those directions are neither unknowns nor multipliers. The generalised formulation
+//! corrects its state at step ends, which the variational equations do not follow; it is
+//! refused with that reason (docs/periodic_orbits.md, "What is not done").
 
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -97,7 +98,7 @@ pub struct OrbitResult {
 
 /// Finds the periodic orbit of `model` asked for by `request` (module documentation).
 ///
-/// Errors: [`Error::Settings`] for a formulation other than the reduced one, a bad period
+/// Errors: [`Error::Settings`] for the generalised formulation, a bad period
 /// (`period_turns` or `period`), or a bad output interval (`dt`);
 /// [`Error::Analysis`] when Newton's method finds no orbit (the message has the residual
 /// history) or an integration fails.
@@ -127,7 +128,7 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
             ));
         }
     };
-    require_reduced(request.options.formulation)?;
+    require_orbit_formulation(request.options.formulation)?;
     let guess_end = request.guess_from_turn as f64 * period;
     let sim = Simulation::new(
         model,
@@ -137,14 +138,52 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
             ..request.options.clone()
         },
     )?;
-    let Some(reduced) = sim.reduced_formulation() else {
-        return Err(Error::settings(
-            "formulation",
-            "the simulation did not build the reduced formulation",
-        ));
+    let setting = Setting {
+        period,
+        period_turns,
+        guess_end,
+        started,
     };
+    if let Some(reduced) = sim.reduced_formulation() {
+        // Event 0 is the clearance joint's penetration δ.
+        orbit_of(reduced.clone(), 1, &sim, request, &setting)
+    } else if let Some(dae) = sim.dae() {
+        // Events 0..n are the penetrations of the revolute clearance joints, then those of the
+        // slider corners of the prismatic ones.
+        let contacts = dae.contacts().len();
+        orbit_of(dae.clone(), contacts, &sim, request, &setting)
+    } else {
+        Err(Error::settings(
+            "formulation",
+            "the simulation did not build the formulation asked for",
+        ))
+    }
+}
+
+/// The period and the clock of one [`orbit`] request.
+struct Setting {
+    period: f64,
+    period_turns: Option<f64>,
+    guess_end: f64,
+    started: Instant,
+}
+
+/// [`orbit`] with the formulation `f` as built by `sim`; its first `contacts` event functions
+/// are contact penetrations.
+fn orbit_of<F: Formulation + Outputs + Clone>(
+    mut f: F,
+    contacts: usize,
+    sim: &Simulation,
+    request: &OrbitRequest,
+    setting: &Setting,
+) -> Result<OrbitResult> {
+    let Setting {
+        period,
+        period_turns,
+        guess_end,
+        started,
+    } = *setting;
     let solver = sim.solver_options().clone();
-    let mut f = reduced.clone();
     let t0 = f.t0();
     let y_start = f.initial_state();
     let t_section = t0 + guess_end;
@@ -158,7 +197,7 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
         integrate_to(&mut f, t0, &y_start, t_section, &solver).map_err(solve)?;
     // Event k < the number of clearance joints is joint k's penetration δ: its gap is located.
     let options = OrbitOptions {
-        watched_gaps: sim.clearance_joints().len(),
+        watched_gaps: contacts,
         ..OrbitOptions::new(period)
     };
     let found = periodic_orbit(&f, t_section, &guess, &options, &solver)?;
@@ -230,7 +269,19 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
     })
 }
 
-/// Refuses every formulation but the reduced one, saying why (module documentation).
+/// Refuses the generalised formulation, saying why (module documentation).
+fn require_orbit_formulation(formulation: FormulationKind) -> Result<()> {
+    if formulation != FormulationKind::Generalized {
+        return Ok(());
+    }
+    Err(Error::settings(
+        "formulation",
+        "periodic orbits are computed with the reduced formulation or the DAE: the generalized formulation recovers its dependent coordinates by Newton's method at every stage and corrects them at step ends, which the variational equations do not follow; use `formulation` dae (any linkage) or reduced (the four-bar with one clearance joint)",
+    ))
+}
+
+/// Refuses every formulation but the reduced one, saying why: the continuation's corrector
+/// takes the reduced formulation's states as its unknowns (docs/periodic_orbits.md).
 pub(crate) fn require_reduced(formulation: FormulationKind) -> Result<()> {
     if formulation == FormulationKind::Reduced {
         return Ok(());
@@ -238,13 +289,7 @@ pub(crate) fn require_reduced(formulation: FormulationKind) -> Result<()> {
     Err(Error::settings(
         "formulation",
         format!(
-            "periodic orbits are computed with the reduced formulation only (the {} formulation keeps constrained coordinates in its state{}); use `formulation` reduced",
-            formulation,
-            if formulation == FormulationKind::Dae {
-                ", whose Baumgarte-stabilised directions would add multipliers of their own"
-            } else {
-                " and projects it at every step end, which the variational equations do not follow"
-            }
+            "continuation is done with the reduced formulation only (the {formulation} formulation's state has constraint directions that its corrector does not yet leave out; a single orbit of it: `linkdyn orbit --formulation dae`); use `formulation` reduced"
         ),
     ))
 }

@@ -14,15 +14,29 @@
 //! period, the separation's saltation matrix has a zero row (the velocity is cleared): M then
 //! factors through a state with that component 0, has rank one less, and one of the
 //! eigenvalues of M_AA is 0 up to rounding. It is trivial too ([`split_trivial`]).
+//!
+//! A stored velocity of a joint that stays in contact over the whole period is read all along
+//! but never overwritten: its row of M is exactly e_jᵀ (its rate is 0 and no event touches it),
+//! so P(x)_j = x_j whatever x is, and its multiplier is exactly 1. The periodic orbits then
+//! form a family that this value parameterises (the contact law's damping depends on the
+//! velocity of the impact that started the contact, however long ago): it is a parameter of
+//! the orbit, kept at the guess's value, not an unknown, and its multiplier is trivial. As an
+//! unknown it would make M − I singular.
 
 use nalgebra::DMatrix;
 
 /// The unknowns of the shooting: every error-controlled state, and every bookkeeping state on
-/// which M has a nonzero off-diagonal entry in its column (module documentation).
+/// which M has a nonzero off-diagonal entry in its column, unless the period leaves it as it
+/// was (module documentation).
 pub fn active_states(monodromy: &[f64], controlled: &[bool]) -> Vec<usize> {
     let n = controlled.len();
+    let read = |j: usize| (0..n).any(|i| i != j && monodromy[i * n + j] != 0.0);
+    // Its row is e_j: no event of the period overwrote it (a joint in contact all along).
+    let kept = |j: usize| {
+        monodromy[j * n + j] == 1.0 && (0..n).all(|k| k == j || monodromy[j * n + k] == 0.0)
+    };
     (0..n)
-        .filter(|&j| controlled[j] || (0..n).any(|i| i != j && monodromy[i * n + j] != 0.0))
+        .filter(|&j| controlled[j] || (read(j) && !kept(j)))
         .collect()
 }
 
@@ -79,6 +93,16 @@ mod tests {
         assert_eq!(active_states(&m, &[true, true, false]), vec![0, 1]);
         // The same with s feeding x: active.
         let m = [0.5, 0.1, 0.2, -0.2, 0.3, 0.0, 0.7, 0.4, 0.0];
+        assert_eq!(active_states(&m, &[true, true, false]), vec![0, 1, 2]);
+    }
+
+    #[test]
+    fn a_bookkeeping_state_that_the_period_leaves_as_it_was_is_a_parameter() {
+        // s feeds x, and its row is e_3: kept, not an unknown.
+        let m = [0.5, 0.1, 0.2, -0.2, 0.3, 0.0, 0.0, 0.0, 1.0];
+        assert_eq!(active_states(&m, &[true, true, false]), vec![0, 1]);
+        // The same s overwritten from x by an event of the period: an unknown.
+        let m = [0.5, 0.1, 0.2, -0.2, 0.3, 0.0, 0.4, 0.0, 0.0];
         assert_eq!(active_states(&m, &[true, true, false]), vec![0, 1, 2]);
     }
 

@@ -30,6 +30,7 @@
 //! would miss the correction's derivative.
 
 pub mod continuation;
+pub mod coordinates;
 pub mod floquet;
 pub mod monodromy;
 pub mod saltation;

@@ -1,6 +1,7 @@
 //! One shot: the state after one period and the monodromy matrix M = ∂φ(t0 + T)/∂y0, from the
 //! variational equations with saltation matrices ([`Variational`]).
 
+use super::coordinates::step_end_corrections;
 use super::variational::Variational;
 use crate::analysis::AnalysisError;
 use crate::formulation::{Crossing, Formulation};
@@ -88,6 +89,16 @@ pub fn shoot_watching<F: Formulation + Clone>(
     };
     if let Some(e) = wrapped.failure() {
         return Err(AnalysisError::invalid("orbit", e.to_string()));
+    }
+    let corrected = step_end_corrections(wrapped.inner()).saturating_sub(step_end_corrections(f));
+    if corrected > 0 {
+        return Err(AnalysisError::invalid(
+            "orbit",
+            format!(
+                "the formulation corrected its state at {corrected} step end{} of the period (projections near a singular position of the linkage); the variational equations do not follow such corrections, so the monodromy matrix would be wrong",
+                if corrected == 1 { "" } else { "s" }
+            ),
+        ));
     }
     let monodromy = end.split_off(n);
     Ok(Shot {

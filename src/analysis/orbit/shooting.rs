@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use super::coordinates::{make_consistent, tangent_basis};
 use super::floquet::{active_states, multipliers, restricted, split_trivial};
 use super::monodromy::{Shot, shoot_watching};
 use crate::analysis::AnalysisError;
@@ -131,11 +132,22 @@ pub fn periodic_orbit<F: Formulation + Clone>(
         stats.add_run(&shot.stats);
         Ok(shot)
     };
+    let mut angular = vec![false; n];
+    f.angular_states(&mut angular);
+    // P(x)_i − x_i, angles modulo whole turns.
+    let closing = |y: &[f64], shot: &Shot, i: usize| {
+        let d = shot.y_end[i] - y[i];
+        if angular[i] && d.abs() > std::f64::consts::PI {
+            d - std::f64::consts::TAU * (d / std::f64::consts::TAU).round()
+        } else {
+            d
+        }
+    };
     // max_i |r_i|/ε_i over `active`.
     let residual = |y: &[f64], shot: &Shot, active: &[usize]| {
         active
             .iter()
-            .map(|&i| (shot.y_end[i] - y[i]).abs() / eps(y[i], shot.y_end[i]))
+            .map(|&i| closing(y, shot, i).abs() / eps(y[i], shot.y_end[i]))
             .fold(0.0, f64::max)
     };
     let fail = |reason: String, history: &[f64]| AnalysisError::NoConvergence {
@@ -145,6 +157,7 @@ pub fn periodic_orbit<F: Formulation + Clone>(
     };
 
     let mut y = guess.to_vec();
+    make_consistent(f, t0, &mut y)?;
     let mut shot = run(&y, &mut stats)?;
     let mut active = active_states(&shot.monodromy, &controlled);
     let mut rho = residual(&y, &shot, &active);
@@ -165,11 +178,21 @@ pub fn periodic_orbit<F: Formulation + Clone>(
             ));
         }
         iterations += 1;
-        // (M_AA − I) Δ = −(P(x) − x) on the unknowns.
+        // (M_AA − I) Δ = −(P(x) − x) on the unknowns; for a constrained state in the
+        // consistent directions W only: Δ = W ξ, (Wᵀ M_AA W − I) ξ = −Wᵀ (P(x) − x).
         let m = active.len();
-        let jac = restricted(&shot.monodromy, n, &active) - nalgebra::DMatrix::identity(m, m);
-        let r = nalgebra::DVector::from_iterator(m, active.iter().map(|&i| y[i] - shot.y_end[i]));
-        let Some(delta) = jac.lu().solve(&r) else {
+        let m_aa = restricted(&shot.monodromy, n, &active);
+        let r = nalgebra::DVector::from_iterator(m, active.iter().map(|&i| -closing(&y, &shot, i)));
+        let solved = match tangent_basis(f, t0, &y, &active)? {
+            None => (m_aa - nalgebra::DMatrix::identity(m, m)).lu().solve(&r),
+            Some(w) => {
+                let k = w.ncols();
+                let wmw = w.transpose() * m_aa * &w;
+                let jac = wmw - nalgebra::DMatrix::identity(k, k);
+                jac.lu().solve(&(w.transpose() * &r)).map(|xi| w * xi)
+            }
+        };
+        let Some(delta) = solved else {
             return Err(fail(
                 "M − I is singular (a Floquet multiplier is 1: a fold, or a family of orbits)"
                     .into(),
@@ -195,7 +218,9 @@ pub fn periodic_orbit<F: Formulation + Clone>(
             for i in (0..n).filter(|i| !active.contains(i)) {
                 trial[i] = shot.y_end[i];
             }
-            match run(&trial, &mut stats) {
+            let shot_of_trial =
+                make_consistent(f, t0, &mut trial).and_then(|()| run(&trial, &mut stats));
+            match shot_of_trial {
                 Ok(next) => {
                     let next_active = active_states(&next.monodromy, &controlled);
                     let next_rho = residual(&trial, &next, &next_active);
@@ -246,17 +271,20 @@ pub fn periodic_orbit<F: Formulation + Clone>(
         .iter()
         .filter(|&&i| !controlled[i] && shot.cleared[i])
         .count();
-    let (mu, structural) = split_trivial(
-        multipliers(&restricted(&shot.monodromy, n, &active)),
-        cleared_active,
-    );
+    let m_aa = restricted(&shot.monodromy, n, &active);
+    // The unknowns' coordinates: the active states, or the consistent directions among them.
+    let (monodromy_in_coordinates, coordinates) = match tangent_basis(f, t0, &y, &active)? {
+        None => (m_aa, active.len()),
+        Some(w) => (w.transpose() * m_aa * &w, w.ncols()),
+    };
+    let (mu, structural) = split_trivial(multipliers(&monodromy_in_coordinates), cleared_active);
     Ok(PeriodicOrbit {
         t0,
         period: options.period,
         iterations,
         closing_error: rho,
         residual_history: history,
-        trivial_multipliers: n - active.len() + structural,
+        trivial_multipliers: n - coordinates + structural,
         unknowns: active,
         multipliers: mu,
         monodromy: shot.monodromy,

@@ -100,7 +100,7 @@ pub(super) const SPACING: f64 = 4.0;
 
 /// Newton iterations of the position projection. The drift it removes is of the order of the
 /// local error (≤ 1e-6 L), so two iterations reach round-off; a third is a margin.
-const POSITION_ITERATIONS: usize = 3;
+pub(super) const POSITION_ITERATIONS: usize = 3;
 
 impl Dae {
     /// Projects the state y = (q, q̇, …) at time t onto the constraint manifold (module
@@ -168,7 +168,12 @@ impl Dae {
     }
 
     /// Evaluates the constraint rows at y and factors A there.
-    fn factor_at(&self, t: f64, y: &[f64], work: &mut Work) -> Result<(), FormulationError> {
+    pub(super) fn factor_at(
+        &self,
+        t: f64,
+        y: &[f64],
+        work: &mut Work,
+    ) -> Result<(), FormulationError> {
         self.constraints_at(t, y, work);
         let rows = &work.constraints.rows;
         work.schur
@@ -181,7 +186,7 @@ impl Dae {
 
     /// z ← z − M⁻¹ Φ_qᵀ A⁻¹ r, with r in `work.lambda` (overwritten by A⁻¹ r) and the rows and
     /// factor of the last [`Dae::factor_at`].
-    fn correct(&self, z: &mut [f64], work: &mut Work) {
+    pub(super) fn correct(&self, z: &mut [f64], work: &mut Work) {
         work.schur.solve(&mut work.lambda);
         work.forces.fill(0.0);
         subtract_constraint_forces(
@@ -196,7 +201,7 @@ impl Dae {
     }
 
     /// Largest |value| over the active rows.
-    fn largest(&self, values: &[f64]) -> f64 {
+    pub(super) fn largest(&self, values: &[f64]) -> f64 {
         self.active
             .iter()
             .fold(0.0_f64, |m, &ri| m.max(values[ri].abs()))
