@@ -1230,7 +1230,7 @@ impl Formulation for Dae {
         diagnosis::dae(self, t, y)
     }
 
-    /// Φ = 0 and Φ̇ = 0 over the active rows ([`consistency`]).
+    /// Φ = 0 and Φ̇ = 0 over the active rows (`dae/consistency.rs`).
     fn constrained_state(&self) -> Option<&dyn super::ConstrainedState> {
         Some(self)
     }
