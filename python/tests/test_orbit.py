@@ -281,8 +281,8 @@ CASES = [
      branch_call(param="joints.Q.clearance"), linkdyn.ModelError),
     ("branch-step", BRANCH + ["--step=-1e-6"], "csv", branch_call(step=-1e-6),
      linkdyn.SettingsError),
-    ("branch-dae", BRANCH + ["--formulation", "dae"], "csv", branch_call(formulation="dae"),
-     linkdyn.SettingsError),
+    ("branch-generalized", BRANCH + ["--formulation", "generalized"], "csv",
+     branch_call(formulation="generalized"), linkdyn.SettingsError),
 ]
 
 

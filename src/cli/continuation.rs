@@ -27,8 +27,8 @@ pub struct ContinueArgs {
     model: PathBuf,
     #[command(flatten)]
     solve: SolveArgs,
-    /// Equations of motion: periodic orbits need `reduced` (the four-bar with one clearance
-    /// joint).
+    /// Equations of motion: `reduced` (the four-bar with one clearance joint) or `dae` (any
+    /// linkage, about ten times slower); not `generalized`.
     #[arg(long, default_value = "reduced", value_parser = super::run::parse_formulation)]
     formulation: FormulationKind,
     /// The continued model field, as a `--set` path (e.g. `joints.B.clearance`).

@@ -3,21 +3,27 @@
 //! `PATH=value`, as a point of `linkdyn bifurcation` does; the branch is computed by
 //! [`crate::analysis::orbit::continue_orbit`] (docs/periodic_orbits.md, "Continuation").
 //!
-//! Supported as for [`mod@super::orbit`]: the reduced formulation.
+//! Supported as for [`mod@super::orbit`]: the reduced formulation and the DAE (whose corrector
+//! steps in the consistent directions and makes every iterate consistent,
+//! [`crate::analysis::orbit::coordinates`]).
 
+use std::marker::PhantomData;
 use std::path::Path;
 use std::time::Instant;
 
 use serde::Serialize;
 
+use super::orbit::StudiedFormulation;
 use crate::analysis::AnalysisError;
 use crate::analysis::orbit::{
     Branch, BranchEnd, BranchPoint, ContinuationOptions, OrbitAt, OrbitFamily, SpecialKind,
     continue_orbit_watched, switch_branch_watched,
 };
 use crate::error::{Error, Result};
-use crate::formulation::{Formulation, Outputs, ReducedLagrangian};
-use crate::simulation::{EndTime, Provenance, Simulation, SimulationOptions, analyses};
+use crate::formulation::{Dae, ReducedLagrangian};
+use crate::simulation::{
+    EndTime, FormulationKind, Provenance, Simulation, SimulationOptions, analyses,
+};
 use crate::solve::{SolverOptions, SolverStats, Stepper, Stop};
 
 /// What `linkdyn continue` asks for.
@@ -139,13 +145,14 @@ pub struct ContinuationResult {
     pub provenance: Provenance,
 }
 
-/// The model in its field `parameter`.
-struct ModelFamily<'a> {
+/// The model in its field `parameter`, with the formulation `F`.
+struct ModelFamily<'a, F> {
     request: &'a ContinuationRequest<'a>,
     contacts: usize,
+    formulation: PhantomData<F>,
 }
 
-impl ModelFamily<'_> {
+impl<F: StudiedFormulation> ModelFamily<'_, F> {
     fn simulation(&self, p: f64) -> Result<Simulation> {
         let r = self.request;
         let mut overrides = r.overrides.to_vec();
@@ -213,15 +220,10 @@ impl ModelFamily<'_> {
     }
 
     /// The formulation at `p`, its section and period.
-    fn orbit_at(&self, p: f64) -> Result<OrbitAt<ReducedLagrangian>> {
+    fn orbit_at(&self, p: f64) -> Result<OrbitAt<F>> {
         let sim = self.simulation(p)?;
         let omega = analyses::driver_speed(sim.model(), "period_turns")?;
-        let Some(f) = sim.reduced_formulation() else {
-            return Err(Error::settings(
-                "formulation",
-                "the simulation did not build the reduced formulation",
-            ));
-        };
+        let f = F::built(&sim)?;
         let period = self.request.period_turns as f64 * std::f64::consts::TAU / omega;
         Ok(OrbitAt {
             t0: f.t0() + self.request.guess_from_turn as f64 * period,
@@ -231,10 +233,10 @@ impl ModelFamily<'_> {
     }
 }
 
-impl OrbitFamily for ModelFamily<'_> {
-    type F = ReducedLagrangian;
+impl<F: StudiedFormulation> OrbitFamily for ModelFamily<'_, F> {
+    type F = F;
 
-    fn at(&self, p: f64) -> std::result::Result<OrbitAt<ReducedLagrangian>, AnalysisError> {
+    fn at(&self, p: f64) -> std::result::Result<OrbitAt<F>, AnalysisError> {
         self.orbit_at(p).map_err(|e| {
             AnalysisError::invalid(
                 "parameter",
@@ -250,7 +252,7 @@ impl OrbitFamily for ModelFamily<'_> {
 
 /// Continues the periodic orbit of the model asked for by `request` (module documentation).
 ///
-/// Errors: [`Error::Settings`] for a formulation other than the reduced one or a bad period;
+/// Errors: [`Error::Settings`] for the generalised formulation or a bad period;
 /// the model's own error at `from` or `to`; [`Error::Analysis`] when there is no orbit at
 /// `from` (the message has the residual history) or the options are invalid.
 pub fn continuation(request: &ContinuationRequest<'_>) -> Result<ContinuationResult> {
@@ -268,21 +270,34 @@ pub fn continuation_watched(
     watch: &mut dyn FnMut(usize, &BranchPoint) -> bool,
 ) -> Result<ContinuationResult> {
     let started = Instant::now();
-    super::orbit::require_reduced(request.options.formulation)?;
+    super::orbit::require_orbit_formulation(request.options.formulation)?;
     if request.period_turns == 0 {
         return Err(Error::settings(
             "period_turns",
             "expected a whole number of driver turns ≥ 1, got 0",
         ));
     }
-    let mut family = ModelFamily {
+    match request.options.formulation {
+        FormulationKind::Reduced => continuation_with::<ReducedLagrangian>(request, watch, started),
+        _ => continuation_with::<Dae>(request, watch, started),
+    }
+}
+
+/// [`continuation_watched`] with the formulation `F`.
+fn continuation_with<F: StudiedFormulation>(
+    request: &ContinuationRequest<'_>,
+    watch: &mut dyn FnMut(usize, &BranchPoint) -> bool,
+    started: Instant,
+) -> Result<ContinuationResult> {
+    let mut family = ModelFamily::<F> {
         request,
         contacts: 0,
+        formulation: PhantomData,
     };
     // Both ends load and build: a bad value is bad input, not a failed point.
     let sim = family.simulation(request.from)?;
     family.simulation(request.to)?;
-    family.contacts = sim.clearance_joints().len();
+    family.contacts = F::built(&sim)?.contact_events();
     let start = family.orbit_at(request.from)?;
     let solver = sim.solver_options().clone();
     let mut f = start.f.clone();
@@ -404,8 +419,8 @@ struct Followed {
 /// (and theirs, `request.follow_doublings` deep). A period doubling where a branch switched to
 /// from it rejoined (the other end of a bubble) starts none: that branch is already there.
 /// Returns the branches and the period doublings where no branch was found, with why.
-fn follow_doublings(
-    family: &ModelFamily<'_>,
+fn follow_doublings<F: StudiedFormulation>(
+    family: &ModelFamily<'_, F>,
     main: Branch,
     request: &ContinuationRequest<'_>,
     options: &ContinuationOptions,

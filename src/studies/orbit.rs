@@ -17,7 +17,7 @@ use serde::Serialize;
 
 use crate::analysis::orbit::{OrbitOptions, periodic_orbit};
 use crate::error::{Error, Result};
-use crate::formulation::{Crossing, Formulation, Outputs};
+use crate::formulation::{Crossing, Dae, Formulation, Outputs, ReducedLagrangian};
 use crate::model::Model;
 use crate::simulation::{
     EndTime, FormulationKind, Provenance, Simulation, SimulationOptions, analyses,
@@ -144,19 +144,46 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
         guess_end,
         started,
     };
-    if let Some(reduced) = sim.reduced_formulation() {
-        // Event 0 is the clearance joint's penetration δ.
-        orbit_of(reduced.clone(), 1, &sim, request, &setting)
-    } else if let Some(dae) = sim.dae() {
-        // Events 0..n are the penetrations of the revolute clearance joints, then those of the
-        // slider corners of the prismatic ones.
-        let contacts = dae.contacts().len();
-        orbit_of(dae.clone(), contacts, &sim, request, &setting)
-    } else {
-        Err(Error::settings(
-            "formulation",
-            "the simulation did not build the formulation asked for",
-        ))
+    match request.options.formulation {
+        FormulationKind::Reduced => orbit_of::<ReducedLagrangian>(&sim, request, &setting),
+        _ => orbit_of::<Dae>(&sim, request, &setting),
+    }
+}
+
+/// A formulation whose periodic orbits the studies compute, as a simulation builds it.
+pub(crate) trait StudiedFormulation: Formulation + Outputs + Clone {
+    /// The formulation `sim` built, if it is this one.
+    fn built(sim: &Simulation) -> Result<&Self>;
+    /// How many of its first event functions are contact penetrations δ (m).
+    fn contact_events(&self) -> usize;
+}
+
+impl StudiedFormulation for ReducedLagrangian {
+    fn built(sim: &Simulation) -> Result<&Self> {
+        sim.reduced_formulation().ok_or_else(|| {
+            Error::settings(
+                "formulation",
+                "the simulation did not build the reduced formulation",
+            )
+        })
+    }
+
+    /// Event 0, the clearance joint's penetration.
+    fn contact_events(&self) -> usize {
+        1
+    }
+}
+
+impl StudiedFormulation for Dae {
+    fn built(sim: &Simulation) -> Result<&Self> {
+        sim.dae()
+            .ok_or_else(|| Error::settings("formulation", "the simulation did not build the DAE"))
+    }
+
+    /// The penetrations of the revolute clearance joints, then those of the slider corners of
+    /// the prismatic ones.
+    fn contact_events(&self) -> usize {
+        self.contacts().len()
     }
 }
 
@@ -168,15 +195,14 @@ struct Setting {
     started: Instant,
 }
 
-/// [`orbit`] with the formulation `f` as built by `sim`; its first `contacts` event functions
-/// are contact penetrations.
-fn orbit_of<F: Formulation + Outputs + Clone>(
-    mut f: F,
-    contacts: usize,
+/// [`orbit`] with the formulation `F` as built by `sim`.
+fn orbit_of<F: StudiedFormulation>(
     sim: &Simulation,
     request: &OrbitRequest,
     setting: &Setting,
 ) -> Result<OrbitResult> {
+    let mut f = F::built(sim)?.clone();
+    let contacts = f.contact_events();
     let Setting {
         period,
         period_turns,
@@ -270,27 +296,13 @@ fn orbit_of<F: Formulation + Outputs + Clone>(
 }
 
 /// Refuses the generalised formulation, saying why (module documentation).
-fn require_orbit_formulation(formulation: FormulationKind) -> Result<()> {
+pub(crate) fn require_orbit_formulation(formulation: FormulationKind) -> Result<()> {
     if formulation != FormulationKind::Generalized {
         return Ok(());
     }
     Err(Error::settings(
         "formulation",
         "periodic orbits are computed with the reduced formulation or the DAE: the generalized formulation recovers its dependent coordinates by Newton's method at every stage and corrects them at step ends, which the variational equations do not follow; use `formulation` dae (any linkage) or reduced (the four-bar with one clearance joint)",
-    ))
-}
-
-/// Refuses every formulation but the reduced one, saying why: the continuation's corrector
-/// takes the reduced formulation's states as its unknowns (docs/periodic_orbits.md).
-pub(crate) fn require_reduced(formulation: FormulationKind) -> Result<()> {
-    if formulation == FormulationKind::Reduced {
-        return Ok(());
-    }
-    Err(Error::settings(
-        "formulation",
-        format!(
-            "continuation is done with the reduced formulation only (the {formulation} formulation's state has constraint directions that its corrector does not yet leave out; a single orbit of it: `linkdyn orbit --formulation dae`); use `formulation` reduced"
-        ),
     ))
 }
 

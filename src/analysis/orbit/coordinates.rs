@@ -72,6 +72,53 @@ pub fn tangent_basis<F: Formulation>(
     Ok(Some(DMatrix::from_columns(&columns)))
 }
 
+/// M with its block over `active` replaced by P M_AA P, P = W Wᵀ the orthogonal projector onto
+/// the consistent directions W at (t, y), where `f` has a constrained state; returns W (None,
+/// M unchanged, otherwise). P M_AA P acts as Wᵀ M_AA W on the consistent directions and as 0
+/// across them, so a Newton step with it, (P M_AA P − I) Δ = −r, takes the consistent part
+/// of Δ from Wᵀ M_AA W and removes the residual across them (the iterate is made consistent
+/// anyway); its eigenvalues are Wᵀ M_AA W's and 2m zeros. For code written for M over the
+/// unknowns (the continuation), which then needs no other change.
+pub fn in_consistent_directions<F: Formulation>(
+    f: &F,
+    t: f64,
+    y: &[f64],
+    monodromy: &mut [f64],
+    active: &[usize],
+) -> Result<Option<DMatrix<f64>>, AnalysisError> {
+    let Some(w) = tangent_basis(f, t, y, active)? else {
+        return Ok(None);
+    };
+    let n = y.len();
+    let m_aa = DMatrix::from_fn(active.len(), active.len(), |a, b| {
+        monodromy[active[a] * n + active[b]]
+    });
+    let projector = &w * w.transpose();
+    let projected = &projector * m_aa * &projector;
+    for (a, &i) in active.iter().enumerate() {
+        for (b, &j) in active.iter().enumerate() {
+            monodromy[i * n + j] = projected[(a, b)];
+        }
+    }
+    Ok(Some(w))
+}
+
+/// Which states of `f` are angles ([`Formulation::angular_states`]).
+pub fn angular_states<F: Formulation>(f: &F) -> Vec<bool> {
+    let mut angular = vec![false; f.n_states()];
+    f.angular_states(&mut angular);
+    angular
+}
+
+/// The change `d` of a state over a period, less whole turns where the state is an angle.
+pub fn less_whole_turns(angular: bool, d: f64) -> f64 {
+    if angular && d.abs() > std::f64::consts::PI {
+        d - std::f64::consts::TAU * (d / std::f64::consts::TAU).round()
+    } else {
+        d
+    }
+}
+
 /// Makes y consistent at t where `f` has a constrained state (no change otherwise).
 pub fn make_consistent<F: Formulation>(f: &F, t: f64, y: &mut [f64]) -> Result<(), AnalysisError> {
     match f.constrained_state() {

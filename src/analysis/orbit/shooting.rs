@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use super::coordinates::{make_consistent, tangent_basis};
+use super::coordinates::{angular_states, less_whole_turns, make_consistent, tangent_basis};
 use super::floquet::{active_states, multipliers, restricted, split_trivial};
 use super::monodromy::{Shot, shoot_watching};
 use crate::analysis::AnalysisError;
@@ -132,17 +132,10 @@ pub fn periodic_orbit<F: Formulation + Clone>(
         stats.add_run(&shot.stats);
         Ok(shot)
     };
-    let mut angular = vec![false; n];
-    f.angular_states(&mut angular);
+    let angular = angular_states(f);
     // P(x)_i − x_i, angles modulo whole turns.
-    let closing = |y: &[f64], shot: &Shot, i: usize| {
-        let d = shot.y_end[i] - y[i];
-        if angular[i] && d.abs() > std::f64::consts::PI {
-            d - std::f64::consts::TAU * (d / std::f64::consts::TAU).round()
-        } else {
-            d
-        }
-    };
+    let closing =
+        |y: &[f64], shot: &Shot, i: usize| less_whole_turns(angular[i], shot.y_end[i] - y[i]);
     // max_i |r_i|/ε_i over `active`.
     let residual = |y: &[f64], shot: &Shot, active: &[usize]| {
         active

@@ -6,6 +6,9 @@ use nalgebra::{DMatrix, DVector};
 
 use super::{OrbitFamily, Scales};
 use crate::analysis::AnalysisError;
+use crate::analysis::orbit::coordinates::{
+    angular_states, in_consistent_directions, less_whole_turns, make_consistent,
+};
 use crate::analysis::orbit::floquet::{active_states, restricted};
 use crate::analysis::orbit::monodromy::{Shot, shoot_watching};
 use crate::formulation::Formulation;
@@ -40,6 +43,9 @@ pub(super) struct Solved {
     /// ∂(P_p(x) − x)/∂p by a forward difference at the last iterate before the point (full
     /// state length; raw units per unit p).
     pub g_p: Vec<f64>,
+    /// The consistent directions over `active` of a constrained state (the DAE;
+    /// [`in_consistent_directions`], which has put the shot's monodromy in them), or `None`.
+    pub basis: Option<DMatrix<f64>>,
 }
 
 /// Integrates `f` without variational equations from (t0, y0) to t1.
@@ -71,6 +77,7 @@ struct Eval {
     shot: Shot,
     active: Vec<usize>,
     rho: f64,
+    basis: Option<DMatrix<f64>>,
 }
 
 /// Solves the augmented system from the predicted point (`y_pred`, `p_pred`) with the condition
@@ -91,34 +98,43 @@ pub(super) fn correct<Fam: OrbitFamily>(
     let tol = solver.controlled_tolerances();
     let eps = |a: f64, b: f64| tol.atol + tol.rtol * a.abs().max(b.abs());
     let watch = family.contact_events();
-    let evaluate = |y: &[f64], p: f64, stats: &mut SolverStats| -> Result<Eval, AnalysisError> {
-        let at = family.at(p)?;
-        let mut controlled = vec![true; n];
-        at.f.error_controlled(&mut controlled);
-        let shot = shoot_watching(
-            &at.f,
-            at.t0,
-            y,
-            at.t0 + at.period,
-            at.period / std::f64::consts::TAU,
-            solver,
-            WHAT,
-            watch,
-        )?;
-        stats.add_run(&shot.stats);
-        let active = active_states(&shot.monodromy, &controlled);
-        let rho = active
-            .iter()
-            .map(|&i| (shot.y_end[i] - y[i]).abs() / eps(y[i], shot.y_end[i]))
-            .fold(0.0, f64::max);
-        Ok(Eval {
-            t0: at.t0,
-            period: at.period,
-            shot,
-            active,
-            rho,
-        })
-    };
+    let angular = angular_states(&family.at(p_pred)?.f);
+    // The shot at (y, p), y first made consistent at p where the state is constrained.
+    let evaluate =
+        |y: &mut [f64], p: f64, stats: &mut SolverStats| -> Result<Eval, AnalysisError> {
+            let at = family.at(p)?;
+            make_consistent(&at.f, at.t0, y)?;
+            let mut controlled = vec![true; n];
+            at.f.error_controlled(&mut controlled);
+            let mut shot = shoot_watching(
+                &at.f,
+                at.t0,
+                y,
+                at.t0 + at.period,
+                at.period / std::f64::consts::TAU,
+                solver,
+                WHAT,
+                watch,
+            )?;
+            stats.add_run(&shot.stats);
+            let active = active_states(&shot.monodromy, &controlled);
+            let basis = in_consistent_directions(&at.f, at.t0, y, &mut shot.monodromy, &active)?;
+            let rho = active
+                .iter()
+                .map(|&i| {
+                    less_whole_turns(angular[i], shot.y_end[i] - y[i]).abs()
+                        / eps(y[i], shot.y_end[i])
+                })
+                .fold(0.0, f64::max);
+            Ok(Eval {
+                t0: at.t0,
+                period: at.period,
+                shot,
+                active,
+                rho,
+                basis,
+            })
+        };
     let fail = |reason: String, history: &[f64]| AnalysisError::NoConvergence {
         analysis: WHAT,
         reason,
@@ -126,7 +142,7 @@ pub(super) fn correct<Fam: OrbitFamily>(
     };
 
     let (mut y, mut p) = (y_pred.to_vec(), p_pred);
-    let mut ev = evaluate(&y, p, stats)?;
+    let mut ev = evaluate(&mut y, p, stats)?;
     if !ev.rho.is_finite() {
         return Err(fail("the period map is not finite".into(), &[ev.rho]));
     }
@@ -137,15 +153,30 @@ pub(super) fn correct<Fam: OrbitFamily>(
     // M − I is of the order of the amplitude and changes with p. On the four-bar's bubble a
     // switch then failed in 9 of 14 runs at tolerances around 1e-10, and in 1 now
     // (docs/periodic_orbits.md, "The parameter's column").
+    // A constrained state (the DAE) is made consistent at p + h first, and the column is the
+    // change of P(x) − x: the consistent states move with p where the parameter enters the
+    // constraints (a driver's speed, a link's length).
     let column = |y: &[f64], p: f64, y_end: &[f64], stats: &mut SolverStats| {
         let h = newton.fd_step * p.abs().max(scales.parameter);
         let at_h = family.at(p + h)?;
-        let shifted = plain(&at_h.f, at_h.t0, y, at_h.t0 + at_h.period, solver, stats)?;
-        Ok::<_, AnalysisError>(
-            (0..n)
-                .map(|i| (shifted[i] - y_end[i]) / h)
-                .collect::<Vec<_>>(),
-        )
+        if at_h.f.constrained_state().is_none() {
+            let shifted = plain(&at_h.f, at_h.t0, y, at_h.t0 + at_h.period, solver, stats)?;
+            return Ok::<_, AnalysisError>(
+                (0..n)
+                    .map(|i| (shifted[i] - y_end[i]) / h)
+                    .collect::<Vec<_>>(),
+            );
+        }
+        let mut y_h = y.to_vec();
+        make_consistent(&at_h.f, at_h.t0, &mut y_h)?;
+        let shifted = plain(&at_h.f, at_h.t0, &y_h, at_h.t0 + at_h.period, solver, stats)?;
+        Ok((0..n)
+            .map(|i| {
+                let moved = less_whole_turns(angular[i], shifted[i] - y_h[i]);
+                let before = less_whole_turns(angular[i], y_end[i] - y[i]);
+                (moved - before) / h
+            })
+            .collect::<Vec<_>>())
     };
     let mut g_p = column(&y, p, &ev.shot.y_end, stats)?;
     let mut history = vec![ev.rho];
@@ -162,7 +193,7 @@ pub(super) fn correct<Fam: OrbitFamily>(
         if iterations > 1 {
             g_p = column(&y, p, &ev.shot.y_end, stats)?;
         }
-        let delta = newton_step(&ev, &y, p, y_pred, p_pred, c, &g_p, scales)
+        let delta = newton_step(&ev, &y, p, (y_pred, p_pred), c, &g_p, scales, &angular)
             .ok_or_else(|| fail("the augmented Jacobian is singular".into(), &history))?;
         // The step in units of ε, the parameter's included (ε_p = rtol·max(|p|, σ_p)): with
         // the amplitude fixed (a switched branch's first point) the state hardly moves while p
@@ -186,7 +217,7 @@ pub(super) fn correct<Fam: OrbitFamily>(
                 trial[i] = ev.shot.y_end[i];
             }
             let trial_p = p + lambda * delta[ev.active.len()];
-            match evaluate(&trial, trial_p, stats) {
+            match evaluate(&mut trial, trial_p, stats) {
                 Ok(next) if next.rho.is_finite() => {
                     if near {
                         history.push(next.rho);
@@ -246,6 +277,7 @@ pub(super) fn correct<Fam: OrbitFamily>(
         history,
         iterations,
         g_p,
+        basis: ev.basis,
     })
 }
 
@@ -255,11 +287,11 @@ fn newton_step(
     ev: &Eval,
     y: &[f64],
     p: f64,
-    y_pred: &[f64],
-    p_pred: f64,
+    (y_pred, p_pred): (&[f64], f64),
     c: &[f64],
     g_p: &[f64],
     scales: &Scales,
+    angular: &[bool],
 ) -> Option<Vec<f64>> {
     let n = y.len();
     let active = &ev.active;
@@ -267,7 +299,7 @@ fn newton_step(
     let jac = augmented_jacobian(&ev.shot.monodromy, n, active, g_p, c, scales);
     let mut rhs = DVector::zeros(m + 1);
     for (a, &i) in active.iter().enumerate() {
-        rhs[a] = -(ev.shot.y_end[i] - y[i]) / scales.state[i];
+        rhs[a] = -less_whole_turns(angular[i], ev.shot.y_end[i] - y[i]) / scales.state[i];
     }
     let offset: f64 = active
         .iter()

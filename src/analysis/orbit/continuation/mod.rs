@@ -737,17 +737,21 @@ fn finish(solved: Solved, previous: &[f64], scales: &Scales, contacts: usize) ->
     // Active bookkeeping states cleared by an event: one structural zero multiplier each
     // (only bookkeeping states are ever cleared).
     let cleared_active = active.iter().filter(|&&i| shot.cleared[i]).count();
-    let (multipliers, structural) = split_trivial(
-        multipliers(&restricted(&shot.monodromy, n, active)),
-        cleared_active,
-    );
+    // A constrained state's multipliers: in its consistent directions W (the others are 0 by
+    // construction of the shot's monodromy, and trivial).
+    let m_aa = restricted(&shot.monodromy, n, active);
+    let (in_coordinates, coordinates) = match &solved.basis {
+        None => (m_aa, m),
+        Some(w) => (w.transpose() * m_aa * w, w.ncols()),
+    };
+    let (multipliers, structural) = split_trivial(multipliers(&in_coordinates), cleared_active);
     let impacts = shot
         .events
         .iter()
         .filter(|(_, k, crossing)| *k < contacts && *crossing == Crossing::Rising)
         .count();
     Some(Point {
-        trivial: n - m + structural,
+        trivial: n - coordinates + structural,
         multipliers,
         impacts,
         tangent,

@@ -51,6 +51,9 @@ use super::{
     SpecialKind, Watch, finished, newton, parameter_direction, validate,
 };
 use crate::analysis::AnalysisError;
+use crate::analysis::orbit::coordinates::{
+    angular_states, in_consistent_directions, less_whole_turns,
+};
 use crate::analysis::orbit::floquet::{active_states, restricted};
 use crate::analysis::orbit::monodromy::shoot_watching;
 use crate::formulation::Formulation;
@@ -133,9 +136,10 @@ impl<Fam: OrbitFamily> Halving for Halves<'_, Fam> {
             self.solver,
             stats,
         )?;
+        let angular = angular_states(&k_at.f);
         let mut d = vec![0.0; solved.y.len()];
         for &i in &solved.active {
-            d[i] = solved.y[i] - mid[i];
+            d[i] = less_whole_turns(angular[i], solved.y[i] - mid[i]);
         }
         Ok(d)
     }
@@ -261,7 +265,7 @@ pub fn switch_branch_watched<Fam: OrbitFamily>(
         times: 2 * multiple,
     };
     let k_at = single.at(at.parameter)?;
-    let shot = shoot_watching(
+    let mut shot = shoot_watching(
         &k_at.f,
         at.t0,
         &at.y0,
@@ -275,6 +279,8 @@ pub fn switch_branch_watched<Fam: OrbitFamily>(
     let mut controlled = vec![true; n];
     k_at.f.error_controlled(&mut controlled);
     let active = active_states(&shot.monodromy, &controlled);
+    // A constrained state's flip direction lies in its consistent directions.
+    in_consistent_directions(&k_at.f, at.t0, &at.y0, &mut shot.monodromy, &active)?;
     let v = flip_eigenvector(&restricted(&shot.monodromy, n, &active)).ok_or_else(|| {
         AnalysisError::invalid(
             "at",
