@@ -360,9 +360,9 @@ pub fn switch_branch_watched<Fam: OrbitFamily>(
                 if gap >= NEAR_ONE {
                     let rows = vec![as_doubled(at), first.row(None)];
                     let first_p = first.solved.p;
-                    let (points, unlocated, end) =
+                    let (mut points, unlocated, end) =
                         march.run(&double, first, rows, h, &mut stats, &mut *watch);
-                    let end = refuse_return_to_start(end, at.parameter, first_p);
+                    let end = refuse_return_to_start(end, at.parameter, first_p, &mut points);
                     return Ok(Branch {
                         points,
                         unlocated,
@@ -415,10 +415,22 @@ pub fn switch_branch_watched<Fam: OrbitFamily>(
 /// for its other end (seen with the chord in ∂G/∂p: on the four-bar at rtol 2e-10 a branch of
 /// 6 points rejoined 1.5e-8 m from its start, the bubble being 7e-6 m wide). Generically a
 /// flip branch does not end where it began, so that end is a failure, with the reason, rather
-/// than a branch returned as found.
-fn refuse_return_to_start(end: BranchEnd, start: f64, first: f64) -> BranchEnd {
+/// than a branch returned as found; and its last point, the junction marked as a period
+/// doubling, is dropped from `points` (it is no period doubling of this branch).
+fn refuse_return_to_start(
+    end: BranchEnd,
+    start: f64,
+    first: f64,
+    points: &mut Vec<BranchPoint>,
+) -> BranchEnd {
     match end {
         BranchEnd::Rejoined { parameter } if (parameter - start).abs() < (first - start).abs() => {
+            if points
+                .last()
+                .is_some_and(|p| p.parameter == parameter && p.special.is_some())
+            {
+                points.pop();
+            }
             BranchEnd::Failed {
                 message: format!(
                     "the branch returned to the period doubling it started from (rejoined at p = {parameter}, {:.2e} from it, nearer than its first point at p = {first}): its first points lay within the multipliers' noise of the period doubling; tighten rtol",
@@ -495,15 +507,41 @@ mod tests {
     /// The four-bar's spurious junction (rtol 2e-10, chord in ∂G/∂p): started at 0.4151604 mm,
     /// first point 0.6 µm below, "rejoined" at 0.4151754 mm. Refused; a junction at the bubble's
     /// other end, and every other end, passes unchanged.
+    /// A branch's rows: a point at each parameter, the last one a junction marked PD.
+    fn rows(parameters: &[f64]) -> Vec<BranchPoint> {
+        let last = parameters.len().saturating_sub(1);
+        parameters
+            .iter()
+            .enumerate()
+            .map(|(k, &parameter)| BranchPoint {
+                parameter,
+                y0: vec![0.0; 5],
+                t0: 0.0,
+                period: 1.0,
+                multipliers: vec![[0.5, 0.0]],
+                trivial_multipliers: 1,
+                spectral_radius: 0.5,
+                stable: true,
+                impacts_per_period: 2,
+                min_gap: None,
+                residual: 1.0,
+                residual_history: Vec::new(),
+                tangent_parameter: 0.0,
+                special: (k == last).then_some(SpecialKind::PeriodDoubling),
+            })
+            .collect()
+    }
+
     #[test]
-    fn a_branch_that_returns_to_its_start_is_refused() {
+    fn a_branch_that_returns_to_its_start_is_refused_without_its_junction() {
         let (start, first) = (0.4151604e-3, 0.4145604e-3);
+        let back = 0.4151754e-3;
+        let mut points = rows(&[start, first, 0.4148e-3, back]);
         let spurious = refuse_return_to_start(
-            BranchEnd::Rejoined {
-                parameter: 0.4151754e-3,
-            },
+            BranchEnd::Rejoined { parameter: back },
             start,
             first,
+            &mut points,
         );
         let BranchEnd::Failed { message } = spurious else {
             panic!("{spurious:?}")
@@ -512,22 +550,34 @@ mod tests {
             message.starts_with("the branch returned to the period doubling it started from"),
             "{message}"
         );
+        // The spurious junction is gone; the points before it stay.
+        let kept: Vec<f64> = points.iter().map(|p| p.parameter).collect();
+        assert_eq!(kept, vec![start, first, 0.4148e-3]);
         let across = BranchEnd::Rejoined {
             parameter: 0.40795e-3,
         };
-        assert_eq!(refuse_return_to_start(across.clone(), start, first), across);
+        let mut points = rows(&[start, first, 0.40795e-3]);
+        assert_eq!(
+            refuse_return_to_start(across.clone(), start, first, &mut points),
+            across
+        );
+        assert_eq!(points.len(), 3);
         // The same on a branch that leaves its period doubling upwards.
         let up = BranchEnd::Rejoined {
             parameter: 0.41478e-3,
         };
+        let mut points = rows(&[0.40789e-3, 0.4085e-3, 0.41478e-3]);
         assert_eq!(
-            refuse_return_to_start(up.clone(), 0.40789e-3, 0.4085e-3),
+            refuse_return_to_start(up.clone(), 0.40789e-3, 0.4085e-3, &mut points),
             up
         );
+        assert_eq!(points.len(), 3);
+        let mut points = rows(&[start, first, 0.40e-3]);
         assert_eq!(
-            refuse_return_to_start(BranchEnd::Reached, start, first),
+            refuse_return_to_start(BranchEnd::Reached, start, first, &mut points),
             BranchEnd::Reached
         );
+        assert_eq!(points.len(), 3);
     }
 
     #[test]
