@@ -17,7 +17,8 @@
 //!   slider_crank_clearance.toml`, which the reduced formulation cannot take): both journals
 //!   stay in contact all along, their stored impact velocities are parameters of the orbit
 //!   (multiplier exactly 1, trivial), and the long run from the same start reaches the orbit.
-//! * The generalised formulation is refused with the reason.
+//! * The generalised formulation is refused with the reason; a model the reduced formulation
+//!   (the default) does not take is pointed to the DAE.
 
 use linkdyn::simulation::{FormulationKind, Simulation, SimulationOptions};
 use linkdyn::solve::{Method, SolverOptions};
@@ -221,5 +222,23 @@ fn the_generalised_formulation_is_refused_with_the_reason() {
     assert_eq!(
         e.to_string(),
         "formulation: periodic orbits are computed with the reduced formulation or the DAE: the generalized formulation recovers its dependent coordinates by Newton's method at every stage and corrects them at step ends, which the variational equations do not follow; use `formulation` dae (any linkage) or reduced (the four-bar with one clearance joint)"
+    );
+}
+
+#[test]
+fn a_model_the_reduced_formulation_refuses_is_pointed_to_the_dae() {
+    let model = load("models/slider_crank_clearance.toml", &[]);
+    let request = OrbitRequest {
+        options: options(FormulationKind::Reduced, 1e-8),
+        period: OrbitPeriod::Turns(1),
+        guess_from_turn: 3,
+        dt: 1e-3,
+    };
+    let Err(e) = orbit(&model, &request) else {
+        panic!("the reduced formulation took a slider-crank");
+    };
+    assert_eq!(
+        e.to_string(),
+        "reduced formulation: needs exactly one clearance joint, between the coupler and the rocker; the model has 2; the dae formulation takes any linkage"
     );
 }

@@ -295,7 +295,9 @@ fn continuation_with<F: StudiedFormulation>(
         formulation: PhantomData,
     };
     // Both ends load and build: a bad value is bad input, not a failed point.
-    let sim = family.simulation(request.from)?;
+    let sim = family
+        .simulation(request.from)
+        .map_err(super::orbit::or_the_dae)?;
     family.simulation(request.to)?;
     family.contacts = F::built(&sim)?.contact_events();
     let start = family.orbit_at(request.from)?;

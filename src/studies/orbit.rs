@@ -17,7 +17,9 @@ use serde::Serialize;
 
 use crate::analysis::orbit::{OrbitOptions, periodic_orbit};
 use crate::error::{Error, Result};
-use crate::formulation::{Crossing, Dae, Formulation, Outputs, ReducedLagrangian};
+use crate::formulation::{
+    Crossing, Dae, Formulation, FormulationError, Outputs, ReducedLagrangian,
+};
 use crate::model::Model;
 use crate::simulation::{
     EndTime, FormulationKind, Provenance, Simulation, SimulationOptions, analyses,
@@ -137,7 +139,8 @@ pub fn orbit(model: &Model, request: &OrbitRequest) -> Result<OrbitResult> {
             dt: request.dt,
             ..request.options.clone()
         },
-    )?;
+    )
+    .map_err(or_the_dae)?;
     let setting = Setting {
         period,
         period_turns,
@@ -293,6 +296,23 @@ fn orbit_of<F: StudiedFormulation>(
         names,
         samples: record.samples,
     })
+}
+
+/// A model that the reduced formulation (the default of `linkdyn orbit` and `linkdyn
+/// continue`) does not take: its error says that the DAE takes any linkage.
+pub(crate) fn or_the_dae(e: Error) -> Error {
+    match e {
+        Error::Formulation(FormulationError::Unsupported {
+            formulation,
+            reason,
+        }) if formulation == FormulationKind::Reduced.name() => {
+            Error::Formulation(FormulationError::Unsupported {
+                formulation,
+                reason: format!("{reason}; the dae formulation takes any linkage"),
+            })
+        }
+        e => e,
+    }
 }
 
 /// Refuses the generalised formulation, saying why (module documentation).
