@@ -26,8 +26,13 @@
 //! * **Floquet multipliers.** The eigenvalues of M restricted to the unknowns; the inactive
 //!   bookkeeping states' multipliers (0 or 1, exactly) are trivial and only counted.
 //!
+//! * **Constrained states** (the DAE's Φ = 0 and Φ̇ = 0): every iterate is made consistent and
+//!   the Newton step is taken in the consistent directions W only; the multipliers are those
+//!   of Wᵀ M W ([`coordinates`]).
+//!
 //! Formulations that correct their state at step ends (projections) are not supported: Φ
-//! would miss the correction's derivative.
+//! would miss the correction's derivative (a DAE period with a projection near a singular
+//! position is refused).
 
 pub mod continuation;
 pub mod coordinates;

@@ -73,11 +73,13 @@ pub struct PeriodicOrbit {
     pub monodromy: Vec<f64>,
     /// The unknowns of the shooting (state indices; [`super::floquet`]).
     pub unknowns: Vec<usize>,
-    /// Floquet multipliers: the eigenvalues of M restricted to the unknowns, (re, im), by
-    /// decreasing modulus.
+    /// Floquet multipliers: the eigenvalues of M restricted to the unknowns (for a
+    /// constrained state, of Wᵀ M W over its consistent directions W,
+    /// [`super::coordinates`]), (re, im), by decreasing modulus.
     pub multipliers: Vec<[f64; 2]>,
-    /// Trivial multipliers removed: one per inactive bookkeeping state, and one per active one
-    /// cleared by an event of the period ([`super::floquet`]).
+    /// Trivial multipliers removed: one per inactive bookkeeping state, one per active one
+    /// cleared by an event of the period ([`super::floquet`]), and one per constraint
+    /// direction of a constrained state.
     pub trivial_multipliers: usize,
     /// The events of one period (time, event index, crossing) along the orbit.
     pub events: Vec<(f64, usize, Crossing)>,
