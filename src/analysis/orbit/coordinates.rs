@@ -13,6 +13,7 @@
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
+use super::floquet::restricted;
 use crate::analysis::AnalysisError;
 use crate::formulation::{ConstrainedState, Formulation};
 
@@ -50,7 +51,7 @@ pub fn tangent_basis<F: Formulation>(
         )
     };
     let gram = &c * c.transpose();
-    let Some(inverse) = gram.clone().cholesky().map(|ch| ch.inverse()) else {
+    let Some(inverse) = gram.cholesky().map(|ch| ch.inverse()) else {
         return Err(dependent());
     };
     let m = active.len();
@@ -90,9 +91,7 @@ pub fn in_consistent_directions<F: Formulation>(
         return Ok(None);
     };
     let n = y.len();
-    let m_aa = DMatrix::from_fn(active.len(), active.len(), |a, b| {
-        monodromy[active[a] * n + active[b]]
-    });
+    let m_aa = restricted(monodromy, n, active);
     let projector = &w * w.transpose();
     let projected = &projector * m_aa * &projector;
     for (a, &i) in active.iter().enumerate() {
@@ -101,6 +100,20 @@ pub fn in_consistent_directions<F: Formulation>(
         }
     }
     Ok(Some(w))
+}
+
+/// M_AA (M restricted to the unknowns) in the shooting's coordinates, and their number: M_AA
+/// itself over the unknowns, or Wᵀ M_AA W over the consistent directions `basis` of a
+/// constrained state. Its eigenvalues are the nontrivial Floquet multipliers (and the
+/// structural zeros of [`super::floquet::split_trivial`]).
+pub fn in_coordinates(m_aa: DMatrix<f64>, basis: Option<&DMatrix<f64>>) -> (DMatrix<f64>, usize) {
+    match basis {
+        None => {
+            let k = m_aa.ncols();
+            (m_aa, k)
+        }
+        Some(w) => (w.transpose() * m_aa * w, w.ncols()),
+    }
 }
 
 /// Which states of `f` are angles ([`Formulation::angular_states`]).

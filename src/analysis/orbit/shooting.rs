@@ -3,7 +3,9 @@
 
 use serde::Serialize;
 
-use super::coordinates::{angular_states, less_whole_turns, make_consistent, tangent_basis};
+use super::coordinates::{
+    angular_states, in_coordinates, less_whole_turns, make_consistent, tangent_basis,
+};
 use super::floquet::{active_states, multipliers, restricted, split_trivial};
 use super::monodromy::{Shot, shoot_watching};
 use crate::analysis::AnalysisError;
@@ -266,12 +268,11 @@ pub fn periodic_orbit<F: Formulation + Clone>(
         .iter()
         .filter(|&&i| !controlled[i] && shot.cleared[i])
         .count();
-    let m_aa = restricted(&shot.monodromy, n, &active);
     // The unknowns' coordinates: the active states, or the consistent directions among them.
-    let (monodromy_in_coordinates, coordinates) = match tangent_basis(f, t0, &y, &active)? {
-        None => (m_aa, active.len()),
-        Some(w) => (w.transpose() * m_aa * &w, w.ncols()),
-    };
+    let (monodromy_in_coordinates, coordinates) = in_coordinates(
+        restricted(&shot.monodromy, n, &active),
+        tangent_basis(f, t0, &y, &active)?.as_ref(),
+    );
     let (mu, structural) = split_trivial(multipliers(&monodromy_in_coordinates), cleared_active);
     Ok(PeriodicOrbit {
         t0,

@@ -100,7 +100,7 @@ pub(super) const SPACING: f64 = 4.0;
 
 /// Newton iterations of the position projection. The drift it removes is of the order of the
 /// local error (≤ 1e-6 L), so two iterations reach round-off; a third is a margin.
-pub(super) const POSITION_ITERATIONS: usize = 3;
+const POSITION_ITERATIONS: usize = 3;
 
 impl Dae {
     /// Projects the state y = (q, q̇, …) at time t onto the constraint manifold (module

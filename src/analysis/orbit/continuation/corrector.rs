@@ -78,6 +78,8 @@ struct Eval {
     active: Vec<usize>,
     rho: f64,
     basis: Option<DMatrix<f64>>,
+    /// Which states are angles ([`angular_states`]), compared modulo whole turns.
+    angular: Vec<bool>,
 }
 
 /// Solves the augmented system from the predicted point (`y_pred`, `p_pred`) with the condition
@@ -98,7 +100,6 @@ pub(super) fn correct<Fam: OrbitFamily>(
     let tol = solver.controlled_tolerances();
     let eps = |a: f64, b: f64| tol.atol + tol.rtol * a.abs().max(b.abs());
     let watch = family.contact_events();
-    let angular = angular_states(&family.at(p_pred)?.f);
     // The shot at (y, p), y first made consistent at p where the state is constrained.
     let evaluate =
         |y: &mut [f64], p: f64, stats: &mut SolverStats| -> Result<Eval, AnalysisError> {
@@ -119,6 +120,7 @@ pub(super) fn correct<Fam: OrbitFamily>(
             stats.add_run(&shot.stats);
             let active = active_states(&shot.monodromy, &controlled);
             let basis = in_consistent_directions(&at.f, at.t0, y, &mut shot.monodromy, &active)?;
+            let angular = angular_states(&at.f);
             let rho = active
                 .iter()
                 .map(|&i| {
@@ -133,6 +135,7 @@ pub(super) fn correct<Fam: OrbitFamily>(
                 active,
                 rho,
                 basis,
+                angular,
             })
         };
     let fail = |reason: String, history: &[f64]| AnalysisError::NoConvergence {
@@ -156,7 +159,8 @@ pub(super) fn correct<Fam: OrbitFamily>(
     // A constrained state (the DAE) is made consistent at p + h first, and the column is the
     // change of P(x) − x: the consistent states move with p where the parameter enters the
     // constraints (a driver's speed, a link's length).
-    let column = |y: &[f64], p: f64, y_end: &[f64], stats: &mut SolverStats| {
+    let column = |y: &[f64], p: f64, ev: &Eval, stats: &mut SolverStats| {
+        let (y_end, angular) = (&ev.shot.y_end, &ev.angular);
         let h = newton.fd_step * p.abs().max(scales.parameter);
         let at_h = family.at(p + h)?;
         if at_h.f.constrained_state().is_none() {
@@ -178,7 +182,7 @@ pub(super) fn correct<Fam: OrbitFamily>(
             })
             .collect::<Vec<_>>())
     };
-    let mut g_p = column(&y, p, &ev.shot.y_end, stats)?;
+    let mut g_p = column(&y, p, &ev, stats)?;
     let mut history = vec![ev.rho];
     let mut iterations = 0;
     let mut done = ev.rho <= 1.0;
@@ -191,9 +195,9 @@ pub(super) fn correct<Fam: OrbitFamily>(
         }
         iterations += 1;
         if iterations > 1 {
-            g_p = column(&y, p, &ev.shot.y_end, stats)?;
+            g_p = column(&y, p, &ev, stats)?;
         }
-        let delta = newton_step(&ev, &y, p, (y_pred, p_pred), c, &g_p, scales, &angular)
+        let delta = newton_step(&ev, &y, p, y_pred, p_pred, c, &g_p, scales)
             .ok_or_else(|| fail("the augmented Jacobian is singular".into(), &history))?;
         // The step in units of ε, the parameter's included (ε_p = rtol·max(|p|, σ_p)): with
         // the amplitude fixed (a switched branch's first point) the state hardly moves while p
@@ -287,11 +291,11 @@ fn newton_step(
     ev: &Eval,
     y: &[f64],
     p: f64,
-    (y_pred, p_pred): (&[f64], f64),
+    y_pred: &[f64],
+    p_pred: f64,
     c: &[f64],
     g_p: &[f64],
     scales: &Scales,
-    angular: &[bool],
 ) -> Option<Vec<f64>> {
     let n = y.len();
     let active = &ev.active;
@@ -299,7 +303,7 @@ fn newton_step(
     let jac = augmented_jacobian(&ev.shot.monodromy, n, active, g_p, c, scales);
     let mut rhs = DVector::zeros(m + 1);
     for (a, &i) in active.iter().enumerate() {
-        rhs[a] = -less_whole_turns(angular[i], ev.shot.y_end[i] - y[i]) / scales.state[i];
+        rhs[a] = -less_whole_turns(ev.angular[i], ev.shot.y_end[i] - y[i]) / scales.state[i];
     }
     let offset: f64 = active
         .iter()

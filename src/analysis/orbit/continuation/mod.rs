@@ -63,6 +63,7 @@ pub use self::special::SpecialKind;
 use self::special::{Observed, changes, regula_falsi, signed_distance};
 use self::switch::Halving;
 pub use self::switch::{switch_branch, switch_branch_watched};
+use super::coordinates::in_coordinates;
 use super::floquet::{multipliers, restricted, split_trivial};
 use crate::analysis::AnalysisError;
 use crate::formulation::{Crossing, Formulation};
@@ -739,12 +740,12 @@ fn finish(solved: Solved, previous: &[f64], scales: &Scales, contacts: usize) ->
     let cleared_active = active.iter().filter(|&&i| shot.cleared[i]).count();
     // A constrained state's multipliers: in its consistent directions W (the others are 0 by
     // construction of the shot's monodromy, and trivial).
-    let m_aa = restricted(&shot.monodromy, n, active);
-    let (in_coordinates, coordinates) = match &solved.basis {
-        None => (m_aa, m),
-        Some(w) => (w.transpose() * m_aa * w, w.ncols()),
-    };
-    let (multipliers, structural) = split_trivial(multipliers(&in_coordinates), cleared_active);
+    let (monodromy_in_coordinates, coordinates) = in_coordinates(
+        restricted(&shot.monodromy, n, active),
+        solved.basis.as_ref(),
+    );
+    let (multipliers, structural) =
+        split_trivial(multipliers(&monodromy_in_coordinates), cleared_active);
     let impacts = shot
         .events
         .iter()

@@ -504,9 +504,6 @@ fn as_doubled(at: &BranchPoint) -> BranchPoint {
 mod tests {
     use super::*;
 
-    /// The four-bar's spurious junction (rtol 2e-10, chord in ∂G/∂p): started at 0.4151604 mm,
-    /// first point 0.6 µm below, "rejoined" at 0.4151754 mm. Refused; a junction at the bubble's
-    /// other end, and every other end, passes unchanged.
     /// A branch's rows: a point at each parameter, the last one a junction marked PD.
     fn rows(parameters: &[f64]) -> Vec<BranchPoint> {
         let last = parameters.len().saturating_sub(1);
@@ -532,6 +529,9 @@ mod tests {
             .collect()
     }
 
+    /// The four-bar's spurious junction (rtol 2e-10, chord in ∂G/∂p): started at 0.4151604 mm,
+    /// first point 0.6 µm below, "rejoined" at 0.4151754 mm. Refused, its junction row dropped;
+    /// a junction at the bubble's other end, and every other end, passes unchanged.
     #[test]
     fn a_branch_that_returns_to_its_start_is_refused_without_its_junction() {
         let (start, first) = (0.4151604e-3, 0.4145604e-3);
